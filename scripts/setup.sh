@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs everything fracdem needs on Debian bookworm (idempotent) and builds it into build/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+DEBS=(liggghts libliggghts-dev openmpi-bin libopenmpi-dev libmetis-dev libvtk9-dev
+      libgtest-dev cmake g++ make python3-vtk9)
+missing=()
+for p in "${DEBS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "[setup] installing Debian packages: ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  # --no-install-recommends: liggghts recommends paraview, which conflicts with libvtk9-dev.
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+PY=${PYTHON:-python3}
+if ! $PY -c "import fracdem, numpy, pandas, matplotlib, pytest, vtk" 2>/dev/null; then
+  echo "[setup] installing the fracdem Python package and its dependencies"
+  $PY -m pip install -q --disable-pip-version-check -e "python[vtk]" pytest
+fi
+
+echo "[setup] building (build/)"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$(nproc)"
+echo "[setup] done: build/fracdem"

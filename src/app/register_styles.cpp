@@ -1,0 +1,57 @@
+// The one place where fracdem styles enter the host's style maps.
+#include "register_styles.h"
+
+#include <map>
+#include <string>
+
+#include "fix.h"
+#include "lammps.h"
+#include "modify.h"
+
+#include "fix_fem_body.h"
+#include "fix_fem_vtk.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+// LIGGGHTS 3.8 keeps Modify::fix_map private and has no plugin loader. The
+// explicit-instantiation access idiom is the standard-conforming way to name a
+// private member: explicit instantiations may refer to private members, and
+// the friend function defined in the instantiated template hands out the
+// member pointer.
+using FixCreatorFn = Fix* (*)(LAMMPS*, int, char**);
+using FixMap = std::map<std::string, FixCreatorFn>;
+
+struct ModifyFixMapTag {
+  using type = FixMap* Modify::*;
+  friend type member_of(ModifyFixMapTag);
+};
+
+template <typename Tag, typename Tag::type Member> struct PrivateMemberAccess {
+  friend typename Tag::type member_of(Tag) { return Member; }
+};
+template struct PrivateMemberAccess<ModifyFixMapTag, &Modify::fix_map>;
+
+template <typename T> Fix* create_fix(LAMMPS* lmp, int narg, char** arg)
+{
+  return new T(lmp, narg, arg);
+}
+
+} // namespace
+
+namespace fracdem {
+
+void register_styles(LAMMPS* lmp)
+{
+  FixMap& fix_map = *(lmp->modify->*member_of(ModifyFixMapTag{}));
+  fix_map["fem/body"] = &create_fix<FixFemBody>;
+  fix_map["fem/vtk"] = &create_fix<FixFemVtk>;
+}
+
+} // namespace fracdem
+
+extern "C" void fracdem_register_styles(void* lmp)
+{
+  fracdem::register_styles(static_cast<LAMMPS*>(lmp));
+}

@@ -1,0 +1,69 @@
+// Mutable finite-element mesh topology shared by all fracdem core kernels.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fracdem {
+
+// Linear element families supported by the kernels. Values are stable (used in
+// restart files and VTK cell-type mapping).
+enum class ElemType : std::uint8_t { Tri3 = 0, Quad4 = 1, Tet4 = 2 };
+
+inline int nodes_per_elem(ElemType t)
+{
+  switch (t) {
+    case ElemType::Tri3: return 3;
+    case ElemType::Quad4: return 4;
+    case ElemType::Tet4: return 4;
+  }
+  return 0;
+}
+
+inline int elem_dim(ElemType t) { return t == ElemType::Tet4 ? 3 : 2; }
+
+// Plain-data mesh. Topology is deliberately kept mutable: fracture will split
+// nodes (append to X, rewrite conn entries), erosion clears `active`, and the
+// boundary / contact surface are always re-derived from `conn` + `active`
+// rather than stored, so they can never go stale.
+struct Mesh {
+  int dim = 3;                          // 2 (x-y plane, z = 0) or 3
+  std::vector<double> X;                // reference coordinates, 3 per node
+  std::vector<ElemType> etype;          // per element
+  std::vector<std::array<int, 4>> conn; // node indices, unused slots = -1
+  std::vector<std::uint8_t> active;     // 1 = live, 0 = eroded
+  std::vector<int> region;              // physical tag of the element (0 = none)
+
+  // Named sets from the mesh file (Gmsh physical groups), node indices sorted.
+  std::map<std::string, std::vector<int>> node_sets;
+  std::map<std::string, std::vector<int>> elem_sets;
+
+  int num_nodes() const { return static_cast<int>(X.size() / 3); }
+  int num_elems() const { return static_cast<int>(conn.size()); }
+  int num_active_elems() const
+  {
+    int n = 0;
+    for (auto a : active) n += a ? 1 : 0;
+    return n;
+  }
+};
+
+// A boundary entity of the current (active) mesh: a triangle of a tet in 3D
+// (nn = 3) or an edge of a 2D element (nn = 2), ordered so that its normal
+// (right-hand rule in 3D; (dy, -dx) for an edge p0->p1 in 2D) points out of
+// the owning element.
+struct Facet {
+  std::array<int, 3> n{{-1, -1, -1}};
+  int nn = 0;
+  int elem = -1;       // owning element
+  int local_face = -1; // face/edge index within the owning element
+};
+
+// Facets that belong to exactly one active element. Deterministic order
+// (sorted by owning element, then local face).
+std::vector<Facet> boundary_facets(const Mesh& mesh);
+
+} // namespace fracdem

@@ -1,0 +1,99 @@
+// fix fem/vtk: writes displacement, velocity, stress and energy density of a fem/body for ParaView.
+#include "fix_fem_vtk.h"
+
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "modify.h"
+#include "update.h"
+
+#include "fix_fem_body.h"
+#include "io/vtk_writer.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+// fix ID group fem/vtk N PREFIX body BODY_FIX_ID
+FixFemVtk::FixFemVtk(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
+{
+  if (narg != 7 || strcmp(arg[5], "body") != 0)
+    error->all(FLERR, "fix fem/vtk: expected 'fix ID group fem/vtk N PREFIX body BODY_FIX_ID'");
+  nevery = force->inumeric(FLERR, arg[3]);
+  if (nevery <= 0) error->all(FLERR, "fix fem/vtk: output interval N must be > 0");
+  prefix_ = arg[4];
+  body_id_ = arg[6];
+  series_ = std::make_unique<fracdem::PvdSeries>(prefix_ + ".pvd");
+}
+
+FixFemVtk::~FixFemVtk() = default;
+
+int FixFemVtk::setmask() { return END_OF_STEP; }
+
+void FixFemVtk::init()
+{
+  Fix* f = modify->find_fix_id(body_id_.c_str());
+  if (!f || strcmp(f->style, "fem/body") != 0) {
+    std::string msg = "fix fem/vtk: keyword 'body': no fix fem/body with ID '" + body_id_ + "'";
+    error->all(FLERR, msg.c_str());
+  }
+  body_ = static_cast<FixFemBody*>(f);
+}
+
+void FixFemVtk::setup(int)
+{
+  if (update->ntimestep % nevery == 0) write_frame();
+}
+
+void FixFemVtk::end_of_step() { write_frame(); }
+
+void FixFemVtk::write_frame()
+{
+  if (update->ntimestep == last_written_) return;
+  last_written_ = update->ntimestep;
+  // The body is replicated: rank 0 writes, others only need the stresses if
+  // they were distributed (they are not).
+  if (comm->me != 0) return;
+
+  const fracdem::Mesh& mesh = body_->mesh();
+  const auto& x = body_->positions();
+  const auto& v = body_->velocities();
+  const int nn = mesh.num_nodes(), ne = mesh.num_elems();
+  std::vector<double> disp(3 * nn);
+  for (int k = 0; k < 3 * nn; ++k) disp[k] = x[k] - mesh.X[k];
+  std::vector<double> stress(6 * ne, 0.0), mises(ne, 0.0), energy_density(ne, 0.0);
+  if (!body_->is_rigid()) {
+    std::vector<double> elem_energy(ne, 0.0);
+    std::vector<double> scratch(3 * nn, 0.0);
+    int inverted = -1;
+    body_->fe_space().add_internal_forces(mesh, x.data(), 0, ne, scratch.data(), elem_energy.data(),
+                                          &inverted);
+    for (int e = 0; e < ne; ++e) {
+      if (!mesh.active[e]) continue;
+      body_->fe_space().element_stress(mesh, x.data(), e, &stress[6 * e]);
+      mises[e] = fracdem::FeSpace::von_mises(&stress[6 * e]);
+      const double vol = body_->fe_space().reference_measure(e);
+      energy_density[e] = vol > 0 ? elem_energy[e] / vol : 0.0;
+    }
+  }
+  std::vector<fracdem::VtkField> fields = {
+      {"displacement", 3, disp.data(), false},
+      {"velocity", 3, v.data(), false},
+      {"stress", 6, stress.data(), true},
+      {"von_mises", 1, mises.data(), true},
+      {"strain_energy_density", 1, energy_density.data(), true},
+  };
+  char name[64];
+  snprintf(name, sizeof(name), "_%010lld.vtu", static_cast<long long>(update->ntimestep));
+  const std::string path = prefix_ + name;
+  try {
+    fracdem::write_vtu(path, mesh, x.data(), fields);
+    series_->add(update->atime + (update->ntimestep - update->atimestep) * update->dt, path);
+  } catch (const std::exception& e) {
+    std::string msg = std::string("fix fem/vtk: ") + e.what();
+    error->one(FLERR, msg.c_str());
+  }
+}
