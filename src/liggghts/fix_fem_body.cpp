@@ -72,6 +72,9 @@ enum VectorIndex {
   kForceZ,
   kStableDt,
   kSearchRebuilds,
+  kMomentumX,
+  kMomentumY,
+  kMomentumZ,
   kVectorSize
 };
 
@@ -912,6 +915,15 @@ double FixFemBody::compute_vector(int i)
       double local = nrebuilds_, total = 0;
       MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
       return total;
+    }
+    case kMomentumX:
+    case kMomentumY:
+    case kMomentumZ: {
+      if (rigid_) return 0.0;
+      const int d = i - kMomentumX;
+      double p = 0;
+      for (int n = 0; n < mesh_.num_nodes(); ++n) p += mass_[n] * v_[3 * n + d];
+      return p;
     }
   }
   return 0.0;

@@ -88,3 +88,34 @@ def check(cond, msg):
 def copy_inputs(names, dest):
     for n in names:
         shutil.copy(os.path.join(INPUTS, n), dest)
+
+
+def make_box_mesh(path, n, l, origin=(0.0, 0.0, 0.0)):
+    sys.path.insert(0, os.path.join(ROOT, "python"))
+    from fracdem import meshgen
+
+    X, E, G = meshgen.box_tet_mesh(*n, *l, origin=origin)
+    meshgen.write_gmsh22(path, X, E, G)
+    return X, E
+
+
+def make_rect_mesh(path, n, l, origin=(0.0, 0.0), element="tri3"):
+    sys.path.insert(0, os.path.join(ROOT, "python"))
+    from fracdem import meshgen
+
+    X, E, G = meshgen.rect_mesh(*n, *l, origin=origin, element=element)
+    meshgen.write_gmsh22(path, X, E, G)
+    return X, E
+
+
+def read_csv(path):
+    import csv
+
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+
+def stable_dt(text):
+    m = re.search(r"stable FE time step ([0-9.eE+-]+)", text)
+    return float(m.group(1)) if m else None

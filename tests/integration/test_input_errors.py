@@ -1,0 +1,49 @@
+"""Bad input stops with a clear error naming the command, keyword and what was expected."""
+import os
+import tempfile
+
+import harness as h
+
+args = h.parse_args()
+cases = [
+    ("fix b all fem/body file nothere.msh type 2 density 1 youngs 1 poisson 0.3",
+     "nothere.msh"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 colour red",
+     "unknown keyword 'colour'"),
+    ("fix b all fem/body file block.msh type 2 youngs 2e11 poisson 0.3",
+     "'density'"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 model plastic",
+     "keyword 'model' got 'plastic'"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 fixed top",
+     "no physical group 'top'"),
+    ("fix b all fem/body file block.msh type 9 density 7800 youngs 2e11 poisson 0.3",
+     "keyword 'type'"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.6",
+     "'poisson'"),
+    ("fix b all fem/body file garbage.msh type 2 density 7800 youngs 2e11 poisson 0.3",
+     "garbage.msh"),
+    ("fix b all fem/body file inverted.msh type 2 density 7800 youngs 2e11 poisson 0.3",
+     "inverted"),
+    ("fix b all fem/vtk 10 out body nobody",
+     "fem/vtk"),
+]
+big_dt = ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3", "exceeds the stable FE time step")
+
+for line, expected in cases + [big_dt]:
+    wd = tempfile.mkdtemp(prefix="errors_")
+    h.make_box_mesh(os.path.join(wd, "block.msh"), (2, 2, 2), (0.1, 0.1, 0.1))
+    with open(os.path.join(wd, "garbage.msh"), "w") as f:
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 x\n")
+    with open(os.path.join(wd, "inverted.msh"), "w") as f:
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                "$EndNodes\n$Elements\n1\n1 4 2 1 1 1 3 2 4\n$EndElements\n")
+    h.copy_inputs(["in.fe_common"], wd)
+    with open(os.path.join(h.INPUTS, "in.errors_template")) as f:
+        text = f.read().replace("BADLINE", line)
+    with open(os.path.join(wd, "in.case"), "w") as f:
+        f.write(text)
+    dt = 1e-3 if (line, expected) == big_dt else 1e-8
+    out = h.run(args.exe, "in.case", workdir=wd, variables=dict(dt=dt), expect_fail=True)
+    err = [l for l in out.splitlines() if "ERROR" in l]
+    h.check(bool(err) and expected in err[0] and "fem/" in err[0],
+            f"'{line.split('fem/')[1][:50]}...' -> {err[0].strip() if err else 'no ERROR line'}")
