@@ -13,6 +13,44 @@ def _grid_nodes(counts, lengths, origin):
     return np.stack([m.ravel(order="F") for m in mesh], axis=1)
 
 
+def graded_axis(length_fine, h_fine, length_total, growth=1.25, symmetric=True):
+    """Node coordinates: uniform spacing h_fine over length_fine, then geometric growth to length_total.
+
+    symmetric: coordinates run from -length_total/2 to +length_total/2 with the fine zone centred;
+    otherwise from -length_total to 0 with the fine zone at the top (0).
+    """
+    half_fine = length_fine / 2 if symmetric else length_fine
+    reach = length_total / 2 if symmetric else length_total
+    n_fine = max(1, int(round(half_fine / h_fine)))
+    pts = [i * h_fine for i in range(n_fine + 1)]
+    h = h_fine
+    while pts[-1] < reach - 1e-12:
+        h *= growth
+        nxt = pts[-1] + h
+        if reach - nxt < 0.5 * h * growth:
+            nxt = reach
+        pts.append(min(nxt, reach))
+    pos = np.array(pts)
+    if symmetric:
+        return np.concatenate([-pos[:0:-1], pos])
+    return -pos[::-1]
+
+
+def box_tet_mesh_axes(xs, ys, zs):
+    """Tet4 box on arbitrary (graded) axis coordinates; same splitting and face sets as box_tet_mesh."""
+    nx, ny, nz = len(xs) - 1, len(ys) - 1, len(zs) - 1
+    X, E, G = box_tet_mesh(nx, ny, nz, 1.0, 1.0, 1.0)
+    ii = np.rint(X[:, 0] * nx).astype(int)
+    jj = np.rint(X[:, 1] * ny).astype(int)
+    kk = np.rint(X[:, 2] * nz).astype(int)
+    X = np.column_stack([np.asarray(xs)[ii], np.asarray(ys)[jj], np.asarray(zs)[kk]])
+    for k, t in enumerate(E):
+        a, b, c, d = (X[n] for n in t)
+        if np.dot(np.cross(b - a, c - a), d - a) < 0:
+            E[k, 2], E[k, 3] = E[k, 3], E[k, 2]
+    return X, E, G
+
+
 def box_tet_mesh(nx, ny, nz, lx, ly, lz, origin=(0.0, 0.0, 0.0)):
     """Box split into nx*ny*nz hexahedra, each cut into 6 positive-volume tetrahedra.
 
