@@ -373,6 +373,7 @@ void FixFemBody::load_mesh()
   elem_end_ = static_cast<int>((static_cast<long long>(ne) * (comm->me + 1)) / comm->nprocs);
 
   facets_ = fracdem::boundary_facets(mesh_);
+  topology_.build(facets_, mesh_.num_nodes());
 
   if (comm->me == 0) {
     char line[512];
@@ -755,7 +756,7 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
         for (int k = 0; k < nslots_; ++k) hist[k * kSlotDoubles] = hist[k * kSlotDoubles + 1] = -1;
       continue;
     }
-    hits = fracdem::resolve_sphere_hits(std::move(hits));
+    hits = fracdem::resolve_sphere_hits(std::move(hits), x[i], x_.data(), topology_);
 
     const int ti = type[i];
     fracdem::ContactMaterial mat = fracdem::mix_materials(
@@ -985,6 +986,7 @@ void FixFemBody::restart(char* raw)
   p += 6 * nn;
   for (int e = 0; e < ne; ++e) mesh_.active[e] = p[e] != 0.0;
   facets_ = fracdem::boundary_facets(mesh_);
+  topology_.build(facets_, mesh_.num_nodes());
   restarted_state_ = true;
 }
 

@@ -9,6 +9,7 @@
 
 #include "fix.h"
 
+#include "contact/contact_resolution.h"
 #include "contact/contact_search.h"
 #include "contact/granular_law.h"
 #include "fem/fe_space.h"
@@ -133,6 +134,7 @@ private:
   std::vector<double> particle_E_, particle_nu_, particle_e_, particle_mu_; // per atom type
   double surface_E_ = 0, surface_nu_ = 0, char_vel_ = 1.0;
   std::vector<fracdem::Facet> facets_;
+  fracdem::SurfaceTopology topology_;
   std::unique_ptr<fracdem::BufferedSearch> search_;
   std::vector<int> search_atoms_;     // search sphere index -> local atom index
   std::vector<double> search_sphere_; // x,y,z,r per search sphere at build time
