@@ -35,7 +35,7 @@ def run(exe, script, np_=1, workdir=None, variables=None, expect_fail=False, tim
         cmd += ["-var", k, str(v)]
     env = dict(os.environ, OMPI_MCA_rmaps_base_oversubscribe="1")
     r = subprocess.run(cmd, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                       text=True, timeout=timeout, env=env)
+                       text=True, errors="replace", timeout=timeout, env=env)
     if expect_fail:
         if r.returncode == 0 and "ERROR" not in r.stdout:
             raise AssertionError(f"expected failure, got success:\n{r.stdout[-3000:]}")
