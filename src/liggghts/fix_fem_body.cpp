@@ -106,7 +106,7 @@ FixFemBody::FixFemBody(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
   size_vector = kVectorSize;
   extvector = 0;
   global_freq = 1;
-  time_integrate = 1;
+  // time_integrate stays 0: this fix integrates FE nodes, never the host's atoms.
   time_depend = 1;
   restart_global = 1;
   restart_peratom = 1;
@@ -528,6 +528,7 @@ void FixFemBody::setup(int /*vflag*/)
   if (rigid_) prescribed_motion(time_, x_.data(), v_.data());
   search_stale_ = true;
   compute_forces();
+  if (energy_fp_ && update->ntimestep % energy_every_ == 0) write_energy_row();
 }
 
 void FixFemBody::pre_neighbor() { search_stale_ = true; }
@@ -932,6 +933,8 @@ double FixFemBody::compute_vector(int i)
 
 void FixFemBody::write_energy_row()
 {
+  if (update->ntimestep == last_energy_step_) return; // a new run starts where the last ended
+  last_energy_step_ = update->ntimestep;
   const double ke = kinetic_energy();
   fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d\n",
           update->ntimestep, time_, ke, strain_energy_, external_work_, contact_work_,

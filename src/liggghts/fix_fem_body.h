@@ -111,6 +111,7 @@ private:
   std::string energy_file_;
   int energy_every_ = 0;
   FILE* energy_fp_ = nullptr;
+  bigint last_energy_step_ = -1;
 
   // ---- body state (replicated on every rank) ----
   fracdem::Mesh mesh_;

@@ -44,7 +44,7 @@ for ratio in (1.5, 2.5, 4.0):
                 variables=dict(common, dt=dt, steps=steps, every=2))
     runs = h.thermo_blocks(out)
     step = h.column(runs, "Step")
-    fz = [-f for f in h.column(runs, "f_body[10]")]  # force on the body points down
+    fz = [-f for f in h.column(runs, "body[10]")]  # force on the body points down
     on = [s for s, f in zip(step, fz) if f > 0]
     peak = max(fz)
     dur = (on[-1] - on[0] + 2) * dt

@@ -14,7 +14,7 @@ for np_ in (1, 2):
     ha, ra = a[-1]
     hb, rb = b[-1]
     h.check(ha == hb and len(ra) == len(rb), f"np={np_}: same thermo layout after restart")
-    h.check(max(abs(x) for x in h.column(a, "f_body[4]")) > 0, f"np={np_}: the particle did work on the body")
+    h.check(max(abs(x) for x in h.column(a, "body[4]")) > 0, f"np={np_}: the particle did work on the body")
     worst = 0.0
     for row_a, row_b in zip(ra, rb):
         for x, y in zip(row_a, row_b):
