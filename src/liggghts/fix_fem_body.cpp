@@ -963,9 +963,10 @@ void FixFemBody::write_restart(FILE* fp)
   buf.insert(buf.end(), x_.begin(), x_.end());
   buf.insert(buf.end(), v_.begin(), v_.end());
   for (int e = 0; e < ne; ++e) buf.push_back(mesh_.active[e]);
-  int n = static_cast<int>(buf.size());
-  fwrite(&n, sizeof(int), 1, fp);
-  fwrite(buf.data(), sizeof(double), n, fp);
+  // The host reads the size in bytes, then that many bytes.
+  const int nbytes = static_cast<int>(buf.size() * sizeof(double));
+  fwrite(&nbytes, sizeof(int), 1, fp);
+  fwrite(buf.data(), sizeof(double), buf.size(), fp);
 }
 
 void FixFemBody::restart(char* raw)
