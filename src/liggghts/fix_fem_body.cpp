@@ -765,12 +765,16 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
         compliance_combined_ ? surface_nu_ : 0.0, particle_e_[ti], particle_mu_[ti], char_vel_,
         normal_model_, tangential_history_);
 
-    std::fill(touched.begin(), touched.end(), 0);
-    for (const fracdem::FacetHit& h : hits) {
+    // Normal and overlap of every kept hit.
+    const int nh = static_cast<int>(hits.size());
+    normals_.resize(3 * nh);
+    overlaps_.resize(nh);
+    for (int k = 0; k < nh; ++k) {
+      const fracdem::FacetHit& h = hits[k];
       const double dist = std::sqrt(h.cp.dist2);
-      fracdem::ContactInput in;
+      double* nk = &normals_[3 * k];
       if (dist > 1e-12 * r) {
-        for (int d = 0; d < 3; ++d) in.n[d] = (x[i][d] - h.cp.p[d]) / dist;
+        for (int d = 0; d < 3; ++d) nk[d] = (x[i][d] - h.cp.p[d]) / dist;
       } else {
         // Centre on the surface: fall back to the facet normal.
         const double* a = &x_[3 * h.nodes[0]];
@@ -789,15 +793,31 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
           nrm[2] = 0;
         }
         const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-        for (int d = 0; d < 3; ++d) in.n[d] = nrm[d] / l;
+        for (int d = 0; d < 3; ++d) nk[d] = nrm[d] / l;
       }
-      in.delta = r - dist;
+      overlaps_[k] = r - dist;
+    }
+
+    std::fill(touched.begin(), touched.end(), 0);
+    for (const std::vector<int>& cluster : fracdem::cluster_hits(normals_.data(), overlaps_.data(), nh)) {
+      // One contact per cluster, evaluated at the deepest hit; its reaction is shared among the
+      // cluster's facets in proportion to overlap^1.5 (their Hertz weights).
+      const fracdem::FacetHit& lead = hits[cluster[0]];
+      double wsum = 0;
+      for (int k : cluster) wsum += std::pow(overlaps_[k], 1.5);
+      fracdem::ContactInput in;
+      for (int d = 0; d < 3; ++d) in.n[d] = normals_[3 * cluster[0] + d];
+      in.delta = overlaps_[cluster[0]];
       in.radius = r;
       in.mass = rmass[i];
       in.dt = dt;
       double vsurf[3] = {0, 0, 0};
-      for (int j = 0; j < h.nn; ++j)
-        for (int d = 0; d < 3; ++d) vsurf[d] += h.cp.w[j] * v_[3 * h.nodes[j] + d];
+      for (int k : cluster) {
+        const double share = std::pow(overlaps_[k], 1.5) / wsum;
+        const fracdem::FacetHit& h = hits[k];
+        for (int j = 0; j < h.nn; ++j)
+          for (int d = 0; d < 3; ++d) vsurf[d] += share * h.cp.w[j] * v_[3 * h.nodes[j] + d];
+      }
       for (int d = 0; d < 3; ++d) {
         in.v_rel[d] = v[i][d] - vsurf[d];
         in.omega[d] = omega[i][d];
@@ -805,8 +825,7 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
       double scratch[3] = {0, 0, 0};
       double* shear = scratch;
       if (tangential_history_ && hist) {
-        const std::uint64_t key = fracdem::feature_key(h);
-        double* slot = history_slot_find(i, key, true);
+        double* slot = history_slot_find(i, fracdem::feature_key(lead), true);
         if (slot) {
           shear = slot + 2;
           touched[(slot - hist) / kSlotDoubles] = 1;
@@ -817,10 +836,14 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
         f[i][d] += out.force[d];
         torque[i][d] += out.torque[d];
       }
-      // Reaction on the facet nodes by barycentric weights: sum of weights is
-      // one, so the pair's linear momentum balance holds to round-off.
-      for (int j = 0; j < h.nn; ++j)
-        for (int d = 0; d < 3; ++d) f_contact[3 * h.nodes[j] + d] -= h.cp.w[j] * out.force[d];
+      // Reaction on the facet nodes by share x barycentric weight: the weights sum to one, so
+      // the pair's linear momentum balance holds to round-off.
+      for (int k : cluster) {
+        const double share = std::pow(overlaps_[k], 1.5) / wsum;
+        const fracdem::FacetHit& h = hits[k];
+        for (int j = 0; j < h.nn; ++j)
+          for (int d = 0; d < 3; ++d) f_contact[3 * h.nodes[j] + d] -= share * h.cp.w[j] * out.force[d];
+      }
       ++ncontacts;
     }
     if (hist)

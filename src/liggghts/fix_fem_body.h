@@ -140,6 +140,7 @@ private:
   std::vector<int> search_atoms_;     // search sphere index -> local atom index
   std::vector<double> search_sphere_; // x,y,z,r per search sphere at build time
   bool search_stale_ = true;
+  std::vector<double> normals_, overlaps_; // per-hit scratch
   int nrebuilds_ = 0;
 
   // ---- per-atom history ----

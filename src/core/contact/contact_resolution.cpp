@@ -141,3 +141,29 @@ std::vector<FacetHit> resolve_sphere_hits(std::vector<FacetHit> hits, const doub
 }
 
 } // namespace fracdem
+
+namespace fracdem {
+
+std::vector<std::vector<int>> cluster_hits(const double* nrm, const double* ov, int n, double cmax)
+{
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ov[a] > ov[b]; });
+  std::vector<std::vector<int>> clusters;
+  for (int i : order) {
+    bool placed = false;
+    for (auto& c : clusters) {
+      const double* l = nrm + 3 * c[0];
+      const double* m = nrm + 3 * i;
+      if (l[0] * m[0] + l[1] * m[1] + l[2] * m[2] >= cmax) {
+        c.push_back(i);
+        placed = true;
+        break;
+      }
+    }
+    if (!placed) clusters.push_back({i});
+  }
+  return clusters;
+}
+
+} // namespace fracdem

@@ -37,3 +37,16 @@ std::vector<FacetHit> resolve_sphere_hits(std::vector<FacetHit> hits, const doub
 std::uint64_t feature_key(const FacetHit& hit);
 
 } // namespace fracdem
+
+namespace fracdem {
+
+// Groups one sphere's kept hits into physical contacts. A sphere pressed into a finely meshed
+// body touches many facets of one dimple: applying a point law per facet would count the
+// sphere's own compliance once per facet and make the contact stiffer with every refinement.
+// Hits whose normals lie within `max_angle_cos` of the deepest hit's normal form one contact,
+// evaluated once at the deepest overlap; separate contacts (a sphere in a groove) stay separate.
+// normals: 3 per hit; overlaps: per hit. Returns clusters of hit indices, deepest first.
+std::vector<std::vector<int>> cluster_hits(const double* normals, const double* overlaps, int nhits,
+                                           double max_angle_cos = 0.866);
+
+} // namespace fracdem
