@@ -1,0 +1,247 @@
+// Unit tests of contact kernels: closest points, the LIGGGHTS-convention law, search, resolution.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "contact/contact_resolution.h"
+#include "contact/contact_search.h"
+#include "contact/geometry.h"
+#include "contact/granular_law.h"
+#include "io/mesh_generators.h"
+
+using namespace fracdem;
+
+TEST(ContactGeometry, ClosestPointTriangleMatchesDenseSampling)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    double a[3], b[3], c[3], q[3];
+    for (int d = 0; d < 3; ++d) {
+      a[d] = U(rng);
+      b[d] = U(rng);
+      c[d] = U(rng);
+      q[d] = 2 * U(rng);
+    }
+    ClosestPoint cp = closest_point_triangle(q, a, b, c);
+    double best = 1e300;
+    const int N = 300;
+    for (int i = 0; i <= N; ++i)
+      for (int j = 0; i + j <= N; ++j) {
+        const double u = double(i) / N, v = double(j) / N;
+        double d2 = 0;
+        for (int d = 0; d < 3; ++d) {
+          const double p = a[d] + u * (b[d] - a[d]) + v * (c[d] - a[d]);
+          d2 += (p - q[d]) * (p - q[d]);
+        }
+        best = std::min(best, d2);
+      }
+    EXPECT_LE(cp.dist2, best + 1e-12);
+    EXPECT_GE(cp.dist2, best - 0.02 * std::sqrt(best) * 2.0 / N * 4 - 1e-9);
+    EXPECT_NEAR(cp.w[0] + cp.w[1] + cp.w[2], 1.0, 1e-12);
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(cp.p[d], cp.w[0] * a[d] + cp.w[1] * b[d] + cp.w[2] * c[d], 1e-12);
+  }
+  const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
+  const double qf[3] = {0.2, 0.2, 1}, qe[3] = {0.5, -1, 0.3}, qv[3] = {-1, -1, 0};
+  EXPECT_EQ(closest_point_triangle(qf, a, b, c).kind, Feature::Face);
+  ClosestPoint ce = closest_point_triangle(qe, a, b, c);
+  EXPECT_EQ(ce.kind, Feature::Edge);
+  EXPECT_EQ(ce.local, 0);
+  ClosestPoint cv = closest_point_triangle(qv, a, b, c);
+  EXPECT_EQ(cv.kind, Feature::Vertex);
+  EXPECT_EQ(cv.local, 0);
+}
+
+TEST(ContactLaw, HertzNormalForceAndDamping)
+{
+  ContactMaterial m = mix_materials(1e7, 0.3, 0.0, 0.0, 0.5, 0.4, 1, NormalModel::Hertz, true);
+  EXPECT_NEAR(m.Yeff, 1e7 / (1 - 0.09), 1e-6);
+  ContactInput in{{0, 0, 1}, 1e-4, 0.01, 0.02, {0, 0, 0}, {0, 0, 0}, 1e-6};
+  double shear[3] = {0, 0, 0};
+  ContactOutput out = particle_surface_force(m, in, shear);
+  EXPECT_NEAR(out.force[2], 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5), 1e-12);
+  in.v_rel[2] = -0.5; // approaching: damping adds repulsion
+  out = particle_surface_force(m, in, shear);
+  const double Sn = 2 * m.Yeff * std::sqrt(0.01 * 1e-4);
+  const double le = std::log(0.5), beta = le / std::sqrt(le * le + M_PI * M_PI);
+  const double gn = -2 * std::sqrt(5.0 / 6.0) * beta * std::sqrt(Sn * 0.02);
+  EXPECT_NEAR(out.force[2], 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5) + gn * 0.5, 1e-9);
+}
+
+TEST(ContactLaw, CoulombCapRescalesHistory)
+{
+  ContactMaterial m = mix_materials(1e7, 0.3, 1e7, 0.3, 0.9, 0.3, 1, NormalModel::Hertz, true);
+  ContactInput in{{0, 0, 1}, 1e-4, 0.01, 0.02, {1.0, 0, 0}, {0, 0, 0}, 1e-3};
+  double shear[3] = {0, 0, 0};
+  for (int k = 0; k < 20; ++k) {
+    ContactOutput out = particle_surface_force(m, in, shear);
+    const double ft = std::hypot(out.force[0], out.force[1]);
+    EXPECT_LE(ft, 0.3 * std::fabs(out.fn) * (1 + 1e-12));
+  }
+  const double Kt = 8 * m.Geff * std::sqrt(0.01 * 1e-4);
+  EXPECT_NEAR(Kt * std::hypot(shear[0], shear[1]), 0.3 * 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5), 1e-9);
+}
+
+TEST(ContactLaw, SphereOnRigidWallReproducesHertzImpact)
+{
+  const double E = 1e7, nu = 0.3, R = 0.005, rho = 7800, v0 = 0.3;
+  const double mass = rho * 4.0 / 3.0 * M_PI * R * R * R;
+  ContactMaterial m = mix_materials(E, nu, 0.0, 0.0, 0.999999, 0.0, 1, NormalModel::Hertz, true);
+  HertzImpact ref = hertz_impact(m.Yeff, R, mass, v0);
+  double z = R, vz = -v0, fz = 0, peak = 0, t = 0, t_on = -1, t_off = -1;
+  const double dt = ref.duration / 20000;
+  double shear[3] = {0, 0, 0};
+  for (int step = 0; step < 40000; ++step) {
+    vz += 0.5 * dt * fz / mass;
+    z += dt * vz;
+    t += dt;
+    fz = 0;
+    if (z < R) {
+      ContactInput in{{0, 0, 1}, R - z, R, mass, {0, 0, vz}, {0, 0, 0}, dt};
+      fz = particle_surface_force(m, in, shear).force[2];
+      if (t_on < 0) t_on = t;
+      t_off = t;
+    }
+    peak = std::max(peak, fz);
+    vz += 0.5 * dt * fz / mass;
+    if (t_off > 0 && z > R + 1e-6) break;
+  }
+  EXPECT_NEAR(peak, ref.peak_force, 0.005 * ref.peak_force);
+  EXPECT_NEAR(t_off - t_on, ref.duration, 0.005 * ref.duration);
+  EXPECT_NEAR(vz, v0, 0.01 * v0);
+}
+
+TEST(ContactSearch, CandidatesEqualBruteForce)
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(0, 1), S(0.001, 0.05);
+  std::vector<Aabb> boxes(3000);
+  for (Aabb& b : boxes)
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = U(rng);
+      b.hi[d] = b.lo[d] + S(rng);
+    }
+  std::vector<double> sxr(4 * 2000);
+  for (int s = 0; s < 2000; ++s) {
+    for (int d = 0; d < 3; ++d) sxr[4 * s + d] = U(rng);
+    sxr[4 * s + 3] = S(rng);
+  }
+  BufferedSearch search(0.01);
+  search.build(boxes, sxr.data(), 2000);
+  EXPECT_EQ(search.candidates(), brute_force_candidates(boxes, sxr.data(), 2000, 0.01));
+  EXPECT_GT(search.candidates().size(), 100u);
+}
+
+TEST(ContactSearch, RebuildCriterionNeverMissesAContact)
+{
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(0, 1), step(-0.002, 0.002);
+  const int nf = 400, ns = 300;
+  std::vector<double> nodes(3 * nf), spheres(4 * ns);
+  for (auto& v : nodes) v = U(rng);
+  for (int s = 0; s < ns; ++s) {
+    for (int d = 0; d < 3; ++d) spheres[4 * s + d] = U(rng);
+    spheres[4 * s + 3] = 0.02;
+  }
+  auto boxes_of = [&]() {
+    std::vector<Aabb> b(nf);
+    for (int f = 0; f < nf; ++f)
+      for (int d = 0; d < 3; ++d) b[f].lo[d] = b[f].hi[d] = nodes[3 * f + d]; // point facets
+    return b;
+  };
+  auto centres = [&]() {
+    std::vector<double> c(3 * ns);
+    for (int s = 0; s < ns; ++s)
+      for (int d = 0; d < 3; ++d) c[3 * s + d] = spheres[4 * s + d];
+    return c;
+  };
+  BufferedSearch search(0.01);
+  int rebuilds = 0;
+  for (int it = 0; it < 200; ++it) {
+    auto c = centres();
+    if (it == 0 || search.needs_rebuild(nodes.data(), nf, c.data(), ns)) {
+      search.build(boxes_of(), spheres.data(), ns);
+      search.remember_positions(nodes.data(), nf, c.data(), ns);
+      ++rebuilds;
+    }
+    auto touching = brute_force_candidates(boxes_of(), spheres.data(), ns, 0.0);
+    const auto& cand = search.candidates();
+    for (const auto& p : touching) ASSERT_TRUE(std::binary_search(cand.begin(), cand.end(), p)) << "missed at step " << it;
+    for (auto& v : nodes) v += step(rng);
+    for (int s = 0; s < ns; ++s)
+      for (int d = 0; d < 3; ++d) spheres[4 * s + d] += step(rng);
+  }
+  EXPECT_LT(rebuilds, 200);
+  EXPECT_GT(rebuilds, 1);
+}
+
+namespace {
+// All hits of a sphere against the boundary of a flat 4x4 plate (top face z = 0).
+std::vector<FacetHit> hits_on_plate(const Mesh& mesh, const std::vector<Facet>& facets, const double q[3], double r)
+{
+  std::vector<FacetHit> hits;
+  for (int k = 0; k < static_cast<int>(facets.size()); ++k) {
+    const Facet& f = facets[k];
+    FacetHit h;
+    h.facet = k;
+    h.nn = 3;
+    for (int j = 0; j < 3; ++j) h.nodes[j] = f.n[j];
+    h.cp = closest_point_triangle(q, &mesh.X[3 * f.n[0]], &mesh.X[3 * f.n[1]], &mesh.X[3 * f.n[2]]);
+    if (h.cp.dist2 < r * r) hits.push_back(h);
+  }
+  return hits;
+}
+} // namespace
+
+TEST(ContactResolution, FlatSurfaceGivesExactlyOneContactWhateverTheMesh)
+{
+  Mesh mesh = make_box_tet_mesh(8, 8, 1, 1.0, 1.0, 0.1, {0, 0, -0.1});
+  auto facets = boundary_facets(mesh);
+  SurfaceTopology topo;
+  topo.build(facets, mesh.num_nodes());
+  const double r = 0.3; // much larger than the facets: many are within reach
+  for (const auto& q : std::vector<std::array<double, 3>>{{0.5, 0.5, 0.29}, {0.5, 0.4375, 0.29}, {0.43, 0.61, 0.29}, {0.51, 0.51, 0.29}}) {
+    auto hits = hits_on_plate(mesh, facets, q.data(), r);
+    ASSERT_GT(hits.size(), 5u);
+    auto kept = resolve_sphere_hits(hits, q.data(), mesh.X.data(), topo);
+    int n_contacts = 0;
+    for (const auto& h : kept) n_contacts += 1;
+    EXPECT_EQ(n_contacts, 1) << "at " << q[0] << "," << q[1];
+    EXPECT_NEAR(std::sqrt(kept[0].cp.dist2), 0.29, 1e-12);
+  }
+}
+
+TEST(ContactResolution, ConvexRidgeGivesOneEdgeContact)
+{
+  // two triangles meeting at the ridge y = 0 (x from 0 to 1), sloping down on both sides
+  Mesh mesh;
+  mesh.dim = 3;
+  mesh.X = {0, 0, 0, 1, 0, 0, 0.5, 1, -0.5, 0.5, -1, -0.5};
+  std::vector<Facet> facets(2);
+  facets[0].n = {0, 1, 2};
+  facets[0].nn = 3;
+  facets[1].n = {1, 0, 3};
+  facets[1].nn = 3;
+  SurfaceTopology topo;
+  topo.build(facets, 4);
+  const double q[3] = {0.5, 0.0, 0.1};
+  std::vector<FacetHit> hits;
+  for (int k = 0; k < 2; ++k) {
+    FacetHit h;
+    h.facet = k;
+    h.nn = 3;
+    for (int j = 0; j < 3; ++j) h.nodes[j] = facets[k].n[j];
+    h.cp = closest_point_triangle(q, &mesh.X[3 * h.nodes[0]], &mesh.X[3 * h.nodes[1]], &mesh.X[3 * h.nodes[2]]);
+    hits.push_back(h);
+  }
+  auto kept = resolve_sphere_hits(hits, q, mesh.X.data(), topo);
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].cp.kind, Feature::Edge);
+  const double normals[6] = {0, 0, 1, 0, 0.1, 0.995}, overlaps[2] = {1e-3, 2e-3};
+  auto clusters = cluster_hits(normals, overlaps, 2);
+  ASSERT_EQ(clusters.size(), 1u);
+  EXPECT_EQ(clusters[0][0], 1); // deepest first
+  const double apart[6] = {0, 0, 1, 1, 0, 0};
+  EXPECT_EQ(cluster_hits(apart, overlaps, 2).size(), 2u);
+}
