@@ -1,4 +1,7 @@
-"""Sphere hitting a large elastic block at low speed: peak force and contact duration vs Hertz.
+"""Validation study (not a CI test yet): sphere hitting a large elastic block vs Hertz theory.
+
+Run: python3 bench/validation_hertz.py [--exe build/fracdem]   (about 10 minutes on 2 cores)
+Writes bench/results/hertz_convergence.csv. Status and analysis: docs/validation.md.
 
 The sphere and the block are the same material. The contact law carries the sphere's compliance
 only (`compliance particle`), the block's compliance comes from its finite elements, so the
@@ -8,10 +11,12 @@ on the finest, peak force and duration within 5% of Hertz, and errors shrink und
 """
 import math
 import os
+import shutil
 import sys
 import tempfile
 
-import harness as h
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'tests', 'integration'))
+import harness as h  # noqa: E402
 
 args = h.parse_args()
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
@@ -34,7 +39,7 @@ for ratio in (1.5, 2.5, 4.0):
     wd = tempfile.mkdtemp(prefix=f"hertz_{ratio}_")
     X, E4, G = meshgen.box_tet_mesh_axes(xs, xs, zs)
     meshgen.write_gmsh22(os.path.join(wd, "block.msh"), X, E4, G)
-    h.copy_inputs(["in.hertz"], wd)
+    shutil.copy(os.path.join(os.path.dirname(os.path.abspath(__file__)), "inputs", "in.hertz"), wd)
     gap = 0.02 * dmax
     common = dict(z0=R + gap, diam=2 * R, vz=-v)
     probe = h.run(args.exe, "in.hertz", np_=2, workdir=wd, variables=dict(common, dt=1e-9, steps=0, every=1))
@@ -53,7 +58,8 @@ for ratio in (1.5, 2.5, 4.0):
     print(f"mesh a/{ratio}: {len(E4)} tets, dt {dt:.3g}: F_max {peak:.4g} N (error {100 * ef:.2f}%), "
           f"duration {dur:.4g} s (error {100 * et:.2f}%)")
 
-with open(os.path.join(tempfile.gettempdir(), "fracdem_hertz_convergence.csv"), "w") as f:
+os.makedirs(os.path.join(h.ROOT, "bench", "results"), exist_ok=True)
+with open(os.path.join(h.ROOT, "bench", "results", "hertz_convergence.csv"), "w") as f:
     f.write("h_over_a,tets,force_error,duration_error\n")
     for r, n, ef, et in errors:
         f.write(f"{1 / r},{n},{ef},{et}\n")
