@@ -10,43 +10,57 @@
 
 namespace fracdem {
 
-// Set-up error that names the offending element (0-based index).
+// Set-up error that names the offending element (0-based index) in its message and in `elem`.
 struct FeError : std::runtime_error {
   FeError(int e, const std::string& what) : std::runtime_error(what), elem(e) {}
   int elem;
 };
 
+// Element formulations (all linear isotropic elastic, see fe_space.cpp for details):
+//   Tet4  : constant strain, one point.
+//   Tri3  : constant strain, one point (axisymmetric: hoop strain at the centroid).
+//   Quad4 : bilinear, 2x2 Gauss, B-bar (volume-averaged dilatation) against volumetric locking.
+// Kinematics::Corotational: polar rotation R of F per element / Gauss point, P = R sigma(R^T F - I);
+// exactly invariant under rigid rotation and f = -dE/dx exactly (isotropic material).
 class FeSpace {
 public:
-  // Precomputes shape-function gradients and measures. Throws FeError on inverted or
-  // degenerate elements, and for axisymmetric meshes with nodes at r = x < 0.
+  // Precomputes shape-function gradients, integration weights and measures. Throws FeError on
+  // inverted or degenerate elements, on elements of the wrong dimension, and for axisymmetric
+  // meshes with an element node at r = x < 0.
   void build(const Mesh& mesh, const Material& mat);
 
-  // Lumped (row-sum) nodal masses: rho * volume (3D), rho * area * thickness (plane strain),
-  // rho * 2 pi * integral of r dA (axisymmetric, full ring).
+  // Lumped nodal masses (one per node, inactive elements skipped): rho * volume (3D),
+  // rho * area * thickness (plane strain), rho * 2 pi * integral of r dA (axisymmetric, full ring,
+  // r-weighted consistent row sums).
   void lumped_masses(const Mesh& mesh, std::vector<double>& m) const;
 
   // Adds the restoring internal forces of active elements in [e_begin, e_end) into f (3 per node)
   // so that m a = f + f_ext. x: current coordinates (3 per node). Returns the strain energy of
-  // those elements; per-element energies go to elem_energy if given. An element with
-  // det F <= 0 sets *first_inverted (if it is still -1); the hot loop never throws.
+  // those elements; per-element energies go to elem_energy[e] if given (0 for inactive ones).
+  // An element with det F <= 0 sets *first_inverted (if non-null and still < 0); never throws.
   double add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end, double* f,
                              double* elem_energy, int* first_inverted) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
-  // axisymmetric runs), averaged over Gauss points.
+  // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R (corotational).
   void element_stress(const Mesh& mesh, const double* x, int e, double sigma[6]) const;
   static double von_mises(const double s[6]);
 
-  // Critical central-difference time step: 2 / omega_max with omega_max bounded from above
-  // element by element (Gershgorin bound of M_e^-1 K_e, which bounds the assembled system).
+  // Critical central-difference time step 2 / omega_max, with omega_max bounded from above
+  // element by element by a provable bound of lambda_max(M_e^-1 K_e) (see fe_space.cpp), taken
+  // over both the reference and the current configuration x. Returns 1e300 for no active elements.
   double stable_time_step(const Mesh& mesh, const double* x) const;
+  // Same bound for one element, expressed as characteristic length l_e = c * dt_e.
+  double characteristic_length(const Mesh& mesh, const double* x, int e) const;
 
   double reference_measure(int e) const { return measure_[e]; }
   bool axisymmetric() const { return axisym_; }
   const Material& material() const { return mat_; }
 
 private:
+  double omega2_bound(const Mesh& mesh, const double* x, int e) const;
+  void element_masses(const Mesh& mesh, int e, double me[4]) const;
+
   Material mat_;
   bool axisym_ = false;
   int dim_ = 3;
