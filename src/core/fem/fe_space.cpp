@@ -9,18 +9,24 @@ namespace fracdem {
 
 namespace {
 
-// Block layouts in geo_ (per element):
+// Per-element blocks in geo_ (flat, contiguous, indexed by offset_[e]):
 //   Tet4 : dNdX[4][3], V                                          -> 13 doubles
-//   Tri3 : one point  : dNdX[3][2], w, hoop[3], r_ref              -> 11 doubles
-//   Quad4: four points: (dNdX[4][2], w, hoop[4], r_ref) x 4        -> 56 doubles
-// w is the integration weight (V, A*t, or 2*pi*r*A); hoop[a] = N_a / r_ref at the point
-// (zero in plane strain), so that hoop strain = sum_a hoop[a] * u_a,x.
+//   Tri3 : one point  : dNdX[3][2], w, hoop[3], r                  -> 11 doubles
+//   Quad4: four points: (dNdX[4][2], w, hoop[4], r) x 4            -> 56 doubles
+// w is the integration weight (V, A*t, or 2*pi*r*A: full ring); hoop[a] = N_a / r at the point
+// (zero in plane strain), so the hoop strain is sum_a hoop[a] * u_a,x.
 constexpr int kTetBlock = 13;
 constexpr int kTriBlock = 11;
 constexpr int kQuadPoint = 14;
 constexpr int kQuadBlock = 4 * kQuadPoint;
-const double kGauss = 1.0 / std::sqrt(3.0);
+constexpr double kPi = 3.14159265358979323846;
+const double kGauss = 0.57735026918962576451; // 1/sqrt(3)
 const double kQuadXi[4][2] = {{-kGauss, -kGauss}, {kGauss, -kGauss}, {kGauss, kGauss}, {-kGauss, kGauss}};
+
+int block_size(ElemType t)
+{
+  return t == ElemType::Tet4 ? kTetBlock : t == ElemType::Tri3 ? kTriBlock : kQuadBlock;
+}
 
 inline double det3(const double m[9])
 {
@@ -28,13 +34,14 @@ inline double det3(const double m[9])
          m[2] * (m[3] * m[7] - m[4] * m[6]);
 }
 
-// Polar decomposition F = R U by Higham's scaled Newton iteration R <- (g R + R^-T / g) / 2.
-// Converges quadratically; for the mildly distorted elements of explicit dynamics 3-5 steps.
-void polar_rotation(const double F[9], double R[9])
+// Rotation of the polar decomposition F = R U (det F > 0) by Higham's Newton iteration
+// R <- (g R + R^-T / g) / 2. Quadratic convergence; the determinant scaling g (a cbrt) only pays
+// off far from orthogonality, so it is skipped for the mildly strained elements of explicit runs.
+// Stops once a correction is < 1e-8: the next error is then ~1e-16 (quadratic convergence).
+inline void polar_rotation(const double F[9], double R[9])
 {
   for (int k = 0; k < 9; ++k) R[k] = F[k];
-  for (int it = 0; it < 30; ++it) {
-    const double d = det3(R);
+  for (int it = 0; it < 40; ++it) {
     double cof[9]; // cofactor matrix = det * R^-T
     cof[0] = R[4] * R[8] - R[5] * R[7];
     cof[1] = R[5] * R[6] - R[3] * R[8];
@@ -45,142 +52,235 @@ void polar_rotation(const double F[9], double R[9])
     cof[6] = R[1] * R[5] - R[2] * R[4];
     cof[7] = R[2] * R[3] - R[0] * R[5];
     cof[8] = R[0] * R[4] - R[1] * R[3];
-    const double g = std::cbrt(1.0 / std::fabs(d)); // scaling speeds up far-from-orthogonal F
+    const double d = R[0] * cof[0] + R[1] * cof[1] + R[2] * cof[2];
+    const double g = std::fabs(d - 1.0) > 0.25 ? std::cbrt(1.0 / d) : 1.0;
+    const double a = 0.5 * g, b = 0.5 / (g * d);
     double diff = 0;
     for (int k = 0; k < 9; ++k) {
-      const double rn = 0.5 * (g * R[k] + cof[k] / (g * d));
+      const double rn = a * R[k] + b * cof[k];
       diff = std::max(diff, std::fabs(rn - R[k]));
       R[k] = rn;
     }
-    if (diff < 1e-14) break;
+    if (diff < 1e-8) break;
   }
 }
 
-// Tet4 force from current node coordinates xl (12) and reference Xl (12). Returns energy.
-inline double tet_force(const double* g, const double* xl, const double* Xl, bool corot, double lam,
-                        double mu, double* fl, double& detF)
+// Tet4, one point. u: nodal displacements (12). Adds -grad E into fl (12, overwritten).
+// sig (optional): Cauchy stress, Voigt 6. Returns the strain energy.
+template <bool Corot>
+inline double tet_kernel(const double* g, const double* u, double lam, double mu, double* fl,
+                         double& detF, double* sig)
 {
   const double* dN = g;
   const double V = g[12];
-  double F[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}; // F[i*3+j] = dx_i/dX_j
-  for (int a = 0; a < 4; ++a)
+  double H[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}; // H[i*3+j] = du_i/dX_j, from displacements (accuracy)
+  for (int a = 0; a < 4; ++a) {
+    const double d0 = dN[3 * a], d1 = dN[3 * a + 1], d2 = dN[3 * a + 2];
     for (int i = 0; i < 3; ++i) {
-      const double xi = xl[3 * a + i];
-      F[3 * i + 0] += xi * dN[3 * a + 0];
-      F[3 * i + 1] += xi * dN[3 * a + 1];
-      F[3 * i + 2] += xi * dN[3 * a + 2];
+      const double ui = u[3 * a + i];
+      H[3 * i + 0] += ui * d0;
+      H[3 * i + 1] += ui * d1;
+      H[3 * i + 2] += ui * d2;
     }
+  }
+  double F[9] = {H[0] + 1, H[1], H[2], H[3], H[4] + 1, H[5], H[6], H[7], H[8] + 1};
   detF = det3(F);
-  double H[9]; // displacement gradient in the (co-rotated) element frame
-  double R[9];
-  if (corot) {
-    polar_rotation(F, R);
-    // H = R^T F - I
+  double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (Corot) {
+    // An inverted element has no proper polar rotation: keep R = I (it is flagged anyway).
+    if (detF > 0) polar_rotation(F, R);
+    // H = R^T F - I: displacement gradient in the co-rotated frame
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        H[3 * i + j] = R[0 * 3 + i] * F[0 * 3 + j] + R[1 * 3 + i] * F[1 * 3 + j] +
-                       R[2 * 3 + i] * F[2 * 3 + j] - (i == j ? 1.0 : 0.0);
-  } else {
-    for (int k = 0; k < 9; ++k) H[k] = F[k];
-    // F - I computed from displacements to avoid cancellation: H = sum (x - X) dN
-    for (int k = 0; k < 9; ++k) H[k] = 0;
-    for (int a = 0; a < 4; ++a)
-      for (int i = 0; i < 3; ++i) {
-        const double ui = xl[3 * a + i] - Xl[3 * a + i];
-        H[3 * i + 0] += ui * dN[3 * a + 0];
-        H[3 * i + 1] += ui * dN[3 * a + 1];
-        H[3 * i + 2] += ui * dN[3 * a + 2];
-      }
+        H[3 * i + j] = R[i] * F[j] + R[3 + i] * F[3 + j] + R[6 + i] * F[6 + j] - (i == j ? 1.0 : 0.0);
   }
   const double exx = H[0], eyy = H[4], ezz = H[8];
   const double gxy = H[1] + H[3], gyz = H[5] + H[7], gzx = H[2] + H[6];
-  const double tr = exx + eyy + ezz;
-  const double sxx = lam * tr + 2 * mu * exx, syy = lam * tr + 2 * mu * eyy,
-               szz = lam * tr + 2 * mu * ezz;
+  const double ltr = lam * (exx + eyy + ezz);
+  const double sxx = ltr + 2 * mu * exx, syy = ltr + 2 * mu * eyy, szz = ltr + 2 * mu * ezz;
   const double sxy = mu * gxy, syz = mu * gyz, szx = mu * gzx;
   double P[9] = {sxx, sxy, szx, sxy, syy, syz, szx, syz, szz};
-  if (corot) {
+  if (Corot) { // first Piola stress P = R sigma
     double RP[9];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         RP[3 * i + j] = R[3 * i + 0] * P[0 + j] + R[3 * i + 1] * P[3 + j] + R[3 * i + 2] * P[6 + j];
+    if (sig) { // Cauchy ~ R sigma R^T (small strains)
+      double c[9];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          c[3 * i + j] = RP[3 * i] * R[3 * j] + RP[3 * i + 1] * R[3 * j + 1] + RP[3 * i + 2] * R[3 * j + 2];
+      sig[0] = c[0]; sig[1] = c[4]; sig[2] = c[8]; sig[3] = c[1]; sig[4] = c[5]; sig[5] = c[2];
+    }
     for (int k = 0; k < 9; ++k) P[k] = RP[k];
+  } else if (sig) {
+    sig[0] = sxx; sig[1] = syy; sig[2] = szz; sig[3] = sxy; sig[4] = syz; sig[5] = szx;
   }
   for (int a = 0; a < 4; ++a) {
-    const double* d = &dN[3 * a];
-    fl[3 * a + 0] = -V * (P[0] * d[0] + P[1] * d[1] + P[2] * d[2]);
-    fl[3 * a + 1] = -V * (P[3] * d[0] + P[4] * d[1] + P[5] * d[2]);
-    fl[3 * a + 2] = -V * (P[6] * d[0] + P[7] * d[1] + P[8] * d[2]);
+    const double d0 = V * dN[3 * a], d1 = V * dN[3 * a + 1], d2 = V * dN[3 * a + 2];
+    fl[3 * a + 0] = -(P[0] * d0 + P[1] * d1 + P[2] * d2);
+    fl[3 * a + 1] = -(P[3] * d0 + P[4] * d1 + P[5] * d2);
+    fl[3 * a + 2] = -(P[6] * d0 + P[7] * d1 + P[8] * d2);
   }
   return 0.5 * V * (sxx * exx + syy * eyy + szz * ezz + sxy * gxy + syz * gyz + szx * gzx);
 }
 
-// One 2D integration point with n nodes (tri3: 3, quad4: 4). Adds into fl (2 per node).
-inline double point2d_force(const double* g, int n, const double* xl, const double* Xl, bool corot,
-                            double lam, double mu, double* fl, double& detF, double* sig_out)
+// In-plane polar rotation (closed form): R = [[c,-s],[s,c]] makes R^T F symmetric.
+inline void rotation2d(const double F[4], double& c, double& s)
+{
+  const double a = F[0] + F[3], b = F[2] - F[1];
+  const double n = std::sqrt(a * a + b * b);
+  if (n > 0) {
+    c = a / n;
+    s = b / n;
+  } else {
+    c = 1;
+    s = 0;
+  }
+}
+
+// Tri3, one point. u: nodal displacements (2 per node). fl (6) overwritten. sig (optional):
+// xx, yy, zz|hoop, xy. Returns the strain energy.
+template <bool Corot>
+inline double tri_kernel(const double* g, const double* u, double lam, double mu, double* fl,
+                         double& detF, double* sig)
 {
   const double* dN = g;
-  const double w = g[2 * n];
-  const double* hoop = g + 2 * n + 1;
-  double F[4] = {0, 0, 0, 0}, Hu[4] = {0, 0, 0, 0};
-  double eth = 0;
-  for (int a = 0; a < n; ++a) {
-    const double x = xl[2 * a], y = xl[2 * a + 1];
-    const double ux = x - Xl[2 * a], uy = y - Xl[2 * a + 1];
-    F[0] += x * dN[2 * a];
-    F[1] += x * dN[2 * a + 1];
-    F[2] += y * dN[2 * a];
-    F[3] += y * dN[2 * a + 1];
-    Hu[0] += ux * dN[2 * a];
-    Hu[1] += ux * dN[2 * a + 1];
-    Hu[2] += uy * dN[2 * a];
-    Hu[3] += uy * dN[2 * a + 1];
+  const double w = g[6];
+  const double* hoop = g + 7;
+  double H[4] = {0, 0, 0, 0}, eth = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double ux = u[2 * a], uy = u[2 * a + 1], dx = dN[2 * a], dy = dN[2 * a + 1];
+    H[0] += ux * dx;
+    H[1] += ux * dy;
+    H[2] += uy * dx;
+    H[3] += uy * dy;
     eth += hoop[a] * ux;
   }
+  const double F[4] = {H[0] + 1, H[1], H[2], H[3] + 1};
   detF = F[0] * F[3] - F[1] * F[2];
   double c = 1, s = 0;
-  double H[4];
-  if (corot) {
-    const double th = std::atan2(F[2] - F[1], F[0] + F[3]);
-    c = std::cos(th);
-    s = std::sin(th);
-    // H = R^T F - I with R = [[c, -s], [s, c]]
+  if (Corot) {
+    rotation2d(F, c, s);
     H[0] = c * F[0] + s * F[2] - 1;
     H[1] = c * F[1] + s * F[3];
     H[2] = -s * F[0] + c * F[2];
     H[3] = -s * F[1] + c * F[3] - 1;
-  } else {
-    for (int k = 0; k < 4; ++k) H[k] = Hu[k];
   }
   const double exx = H[0], eyy = H[3], gxy = H[1] + H[2];
-  const double tr = exx + eyy + eth;
-  const double sxx = lam * tr + 2 * mu * exx, syy = lam * tr + 2 * mu * eyy;
-  const double sth = lam * tr + 2 * mu * eth, sxy = mu * gxy;
-  double P[4] = {sxx, sxy, sxy, syy};
-  if (corot) {
-    const double p0 = c * P[0] - s * P[2], p1 = c * P[1] - s * P[3];
-    const double p2 = s * P[0] + c * P[2], p3 = s * P[1] + c * P[3];
-    P[0] = p0;
-    P[1] = p1;
-    P[2] = p2;
-    P[3] = p3;
+  const double ltr = lam * (exx + eyy + eth);
+  const double sxx = ltr + 2 * mu * exx, syy = ltr + 2 * mu * eyy, sth = ltr + 2 * mu * eth;
+  const double sxy = mu * gxy;
+  double P0 = sxx, P1 = sxy, P2 = sxy, P3 = syy;
+  if (Corot) {
+    P0 = c * sxx - s * sxy;
+    P1 = c * sxy - s * syy;
+    P2 = s * sxx + c * sxy;
+    P3 = s * sxy + c * syy;
   }
-  for (int a = 0; a < n; ++a) {
-    const double dx = dN[2 * a], dy = dN[2 * a + 1];
-    fl[2 * a] -= w * (P[0] * dx + P[1] * dy + sth * hoop[a]);
-    fl[2 * a + 1] -= w * (P[2] * dx + P[3] * dy);
+  for (int a = 0; a < 3; ++a) {
+    const double dx = w * dN[2 * a], dy = w * dN[2 * a + 1];
+    fl[2 * a] = -(P0 * dx + P1 * dy + sth * w * hoop[a]);
+    fl[2 * a + 1] = -(P2 * dx + P3 * dy);
   }
-  if (sig_out) {
-    // Cauchy stress ~ rotated small-strain stress (small strains assumed).
-    const double rxx = c * c * sxx - 2 * c * s * sxy + s * s * syy;
-    const double ryy = s * s * sxx + 2 * c * s * sxy + c * c * syy;
-    const double rxy = c * s * (sxx - syy) + (c * c - s * s) * sxy;
-    sig_out[0] += rxx;
-    sig_out[1] += ryy;
-    sig_out[2] += sth;
-    sig_out[3] += rxy;
+  if (sig) {
+    sig[0] = c * c * sxx - 2 * c * s * sxy + s * s * syy;
+    sig[1] = s * s * sxx + 2 * c * s * sxy + c * c * syy;
+    sig[2] = sth;
+    sig[3] = c * s * (sxx - syy) + (c * c - s * s) * sxy;
   }
   return 0.5 * w * (sxx * exx + syy * eyy + sth * eth + sxy * gxy);
+}
+
+// Quad4, 2x2 Gauss with B-bar: the dilatation theta_q at each point (in-plane trace + hoop strain)
+// is replaced by its weighted element mean theta_bar, eps_bar = eps_q + (theta_bar - theta_q)/3 I
+// (the out-of-plane / hoop component included), which removes volumetric locking near nu = 1/2
+// and keeps the element energy-consistent: E = sum_q w_q eps_bar:C:eps_bar / 2 and
+// f_a = -sum_q w_q [R sigma grad N_a + sigma_zz hoop_a e_x + p_q (bbar_a - b_a(q))],
+// with b_a(q) = d theta_q / d x_a = R_q grad N_a + hoop_a e_x and p_q = tr(sigma_q) / 3.
+// u: displacements (2 per node); fl (8) overwritten; sig (optional) gets the point average.
+template <bool Corot>
+inline double quad_kernel(const double* g, const double* u, double lam, double mu, double* fl,
+                          double& detmin, double* sig)
+{
+  double H[4][4], eth[4], th[4], cq[4], sq[4];
+  double W = 0, thbar = 0;
+  detmin = 1e300;
+  for (int q = 0; q < 4; ++q) {
+    const double* gq = g + q * kQuadPoint;
+    const double* dN = gq;
+    const double* hoop = gq + 9;
+    double h[4] = {0, 0, 0, 0}, et = 0;
+    for (int a = 0; a < 4; ++a) {
+      const double ux = u[2 * a], uy = u[2 * a + 1], dx = dN[2 * a], dy = dN[2 * a + 1];
+      h[0] += ux * dx;
+      h[1] += ux * dy;
+      h[2] += uy * dx;
+      h[3] += uy * dy;
+      et += hoop[a] * ux;
+    }
+    const double F[4] = {h[0] + 1, h[1], h[2], h[3] + 1};
+    detmin = std::min(detmin, F[0] * F[3] - F[1] * F[2]);
+    double c = 1, s = 0;
+    if (Corot) {
+      rotation2d(F, c, s);
+      h[0] = c * F[0] + s * F[2] - 1;
+      h[1] = c * F[1] + s * F[3];
+      h[2] = -s * F[0] + c * F[2];
+      h[3] = -s * F[1] + c * F[3] - 1;
+    }
+    for (int k = 0; k < 4; ++k) H[q][k] = h[k];
+    eth[q] = et;
+    cq[q] = c;
+    sq[q] = s;
+    th[q] = h[0] + h[3] + et;
+    W += gq[8];
+    thbar += gq[8] * th[q];
+  }
+  thbar /= W;
+  for (int k = 0; k < 8; ++k) fl[k] = 0;
+  double bbar[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  double psum = 0, energy = 0;
+  if (sig) sig[0] = sig[1] = sig[2] = sig[3] = 0;
+  for (int q = 0; q < 4; ++q) {
+    const double* gq = g + q * kQuadPoint;
+    const double* dN = gq;
+    const double w = gq[8];
+    const double* hoop = gq + 9;
+    const double c = cq[q], s = sq[q];
+    const double d = (thbar - th[q]) / 3.0;
+    const double exx = H[q][0] + d, eyy = H[q][3] + d, ezz = eth[q] + d, gxy = H[q][1] + H[q][2];
+    const double ltr = lam * thbar;
+    const double sxx = ltr + 2 * mu * exx, syy = ltr + 2 * mu * eyy, szz = ltr + 2 * mu * ezz;
+    const double sxy = mu * gxy;
+    const double p = (sxx + syy + szz) / 3.0;
+    double P0 = sxx, P1 = sxy, P2 = sxy, P3 = syy;
+    if (Corot) {
+      P0 = c * sxx - s * sxy;
+      P1 = c * sxy - s * syy;
+      P2 = s * sxx + c * sxy;
+      P3 = s * sxy + c * syy;
+    }
+    for (int a = 0; a < 4; ++a) {
+      const double dx = dN[2 * a], dy = dN[2 * a + 1];
+      const double bx = c * dx - s * dy + hoop[a], by = s * dx + c * dy;
+      fl[2 * a] -= w * (P0 * dx + P1 * dy + szz * hoop[a] - p * bx);
+      fl[2 * a + 1] -= w * (P2 * dx + P3 * dy - p * by);
+      bbar[2 * a] += w * bx;
+      bbar[2 * a + 1] += w * by;
+    }
+    psum += w * p;
+    energy += 0.5 * w * (sxx * exx + syy * eyy + szz * ezz + sxy * gxy);
+    if (sig) {
+      sig[0] += 0.25 * (c * c * sxx - 2 * c * s * sxy + s * s * syy);
+      sig[1] += 0.25 * (s * s * sxx + 2 * c * s * sxy + c * c * syy);
+      sig[2] += 0.25 * szz;
+      sig[3] += 0.25 * (c * s * (sxx - syy) + (c * c - s * s) * sxy);
+    }
+  }
+  const double pw = psum / W;
+  for (int k = 0; k < 8; ++k) fl[k] -= pw * bbar[k];
+  return energy;
 }
 
 void quad_shape(double xi, double eta, double N[4], double dNdxi[4][2])
@@ -193,11 +293,198 @@ void quad_shape(double xi, double eta, double N[4], double dNdxi[4][2])
   }
 }
 
-std::string elem_msg(int e, const char* what, double value)
+enum class Geo { Ok, Inverted, Degenerate };
+
+// Fills one element block g from local node coordinates p (3 per node). measure: volume / area;
+// value: the offending signed measure when not Ok.
+Geo element_geometry(ElemType t, const double* p, bool axisym, double thickness, double* g,
+                     double& measure, double& value)
+{
+  if (t == ElemType::Tet4) {
+    double J[9]; // columns: edges from node 0
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i) J[3 * i + k] = p[3 * (k + 1) + i] - p[i];
+    double h2 = 0; // longest edge, squared
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        double l2 = 0;
+        for (int i = 0; i < 3; ++i) l2 += (p[3 * a + i] - p[3 * b + i]) * (p[3 * a + i] - p[3 * b + i]);
+        h2 = std::max(h2, l2);
+      }
+    const double det = det3(J);
+    const double V = det / 6.0;
+    measure = value = V;
+    const double tol = 1e-14 * h2 * std::sqrt(h2);
+    if (!(std::fabs(V) >= tol) || h2 == 0) return Geo::Degenerate;
+    if (V < 0) return Geo::Inverted;
+    // rows of J^-1 are dN_k/dX for k = 1..3; dN_0 = -sum
+    double inv[9];
+    inv[0] = (J[4] * J[8] - J[5] * J[7]) / det;
+    inv[1] = (J[2] * J[7] - J[1] * J[8]) / det;
+    inv[2] = (J[1] * J[5] - J[2] * J[4]) / det;
+    inv[3] = (J[5] * J[6] - J[3] * J[8]) / det;
+    inv[4] = (J[0] * J[8] - J[2] * J[6]) / det;
+    inv[5] = (J[2] * J[3] - J[0] * J[5]) / det;
+    inv[6] = (J[3] * J[7] - J[4] * J[6]) / det;
+    inv[7] = (J[1] * J[6] - J[0] * J[7]) / det;
+    inv[8] = (J[0] * J[4] - J[1] * J[3]) / det;
+    for (int j = 0; j < 3; ++j) {
+      g[0 + j] = -(inv[0 + j] + inv[3 + j] + inv[6 + j]);
+      for (int k = 0; k < 3; ++k) g[3 * (k + 1) + j] = inv[3 * k + j];
+    }
+    g[12] = V;
+    return Geo::Ok;
+  }
+  if (t == ElemType::Tri3) {
+    const double x0 = p[0], y0 = p[1], x1 = p[3], y1 = p[4], x2 = p[6], y2 = p[7];
+    const double A2 = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+    const double h2 = std::max({(x1 - x0) * (x1 - x0) + (y1 - y0) * (y1 - y0),
+                                (x2 - x0) * (x2 - x0) + (y2 - y0) * (y2 - y0),
+                                (x2 - x1) * (x2 - x1) + (y2 - y1) * (y2 - y1)});
+    const double A = 0.5 * A2;
+    measure = value = A;
+    const double r = (x0 + x1 + x2) / 3.0;
+    if (!(std::fabs(A) >= 1e-14 * h2) || h2 == 0) return Geo::Degenerate;
+    if (A < 0) return Geo::Inverted;
+    if (axisym && !(r > 0)) return Geo::Degenerate; // all three nodes on the axis
+    g[0] = (y1 - y2) / A2; g[1] = (x2 - x1) / A2;
+    g[2] = (y2 - y0) / A2; g[3] = (x0 - x2) / A2;
+    g[4] = (y0 - y1) / A2; g[5] = (x1 - x0) / A2;
+    if (axisym) {
+      g[6] = 2 * kPi * r * A;
+      for (int a = 0; a < 3; ++a) g[7 + a] = 1.0 / (3.0 * r);
+    } else {
+      g[6] = A * thickness;
+      for (int a = 0; a < 3; ++a) g[7 + a] = 0;
+    }
+    g[10] = r;
+    return Geo::Ok;
+  }
+  // Quad4
+  double h2 = 0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b) {
+      const double dx = p[3 * a] - p[3 * b], dy = p[3 * a + 1] - p[3 * b + 1];
+      h2 = std::max(h2, dx * dx + dy * dy);
+    }
+  double area = 0;
+  Geo status = Geo::Ok;
+  value = 1e300;
+  for (int q = 0; q < 4; ++q) {
+    double N[4], dNdxi[4][2];
+    quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
+    double J[4] = {0, 0, 0, 0}, r = 0;
+    for (int a = 0; a < 4; ++a) {
+      const double xa = p[3 * a], ya = p[3 * a + 1];
+      J[0] += xa * dNdxi[a][0]; J[1] += xa * dNdxi[a][1];
+      J[2] += ya * dNdxi[a][0]; J[3] += ya * dNdxi[a][1];
+      r += N[a] * xa;
+    }
+    const double det = J[0] * J[3] - J[1] * J[2]; // = area / 4 at this point for a parallelogram
+    area += det;
+    value = std::min(value, det);
+    if (!(std::fabs(det) >= 0.25e-14 * h2) || h2 == 0) {
+      status = Geo::Degenerate;
+      continue;
+    }
+    if (det < 0) {
+      if (status == Geo::Ok) status = Geo::Inverted;
+      continue;
+    }
+    if (axisym && !(r > 0)) {
+      status = Geo::Degenerate;
+      continue;
+    }
+    double* gp = g + q * kQuadPoint;
+    for (int a = 0; a < 4; ++a) {
+      gp[2 * a] = (J[3] * dNdxi[a][0] - J[2] * dNdxi[a][1]) / det;
+      gp[2 * a + 1] = (-J[1] * dNdxi[a][0] + J[0] * dNdxi[a][1]) / det;
+    }
+    if (axisym) {
+      gp[8] = 2 * kPi * r * det;
+      for (int a = 0; a < 4; ++a) gp[9 + a] = N[a] / r;
+    } else {
+      gp[8] = det * thickness;
+      for (int a = 0; a < 4; ++a) gp[9 + a] = 0;
+    }
+    gp[13] = r;
+  }
+  measure = area;
+  return status;
+}
+
+std::string elem_msg(int e, const std::string& what)
 {
   std::ostringstream os;
-  os << "element " << e << " " << what << " (" << value << ")";
+  os << "fracdem: element " << e << " " << what;
   return os.str();
+}
+
+// The element loop, instantiated per kinematics so the hot path has no model branches.
+template <bool Corot>
+double forces_loop(const Mesh& mesh, const double* geo, const int* offset, const double* x, int eb,
+                   int ee, double lam, double mu, double* f, double* elem_energy, int* first_inverted)
+{
+  const double* X = mesh.X.data();
+  const std::uint8_t* active = mesh.active.data();
+  const ElemType* etype = mesh.etype.data();
+  const std::array<int, 4>* conn = mesh.conn.data();
+  double energy = 0;
+  int inverted_first = -1;
+  for (int e = eb; e < ee; ++e) {
+    if (!active[e]) {
+      if (elem_energy) elem_energy[e] = 0;
+      continue;
+    }
+    const int* c = conn[e].data();
+    const double* g = geo + offset[e];
+    double en, detF;
+    if (etype[e] == ElemType::Tet4) {
+      double u[12], fl[12];
+      for (int a = 0; a < 4; ++a) {
+        const int n = 3 * c[a];
+        u[3 * a + 0] = x[n + 0] - X[n + 0];
+        u[3 * a + 1] = x[n + 1] - X[n + 1];
+        u[3 * a + 2] = x[n + 2] - X[n + 2];
+      }
+      en = tet_kernel<Corot>(g, u, lam, mu, fl, detF, nullptr);
+      for (int a = 0; a < 4; ++a) {
+        double* fa = f + 3 * c[a];
+        fa[0] += fl[3 * a];
+        fa[1] += fl[3 * a + 1];
+        fa[2] += fl[3 * a + 2];
+      }
+    } else if (etype[e] == ElemType::Tri3) {
+      double u[6], fl[6];
+      for (int a = 0; a < 3; ++a) {
+        const int n = 3 * c[a];
+        u[2 * a] = x[n] - X[n];
+        u[2 * a + 1] = x[n + 1] - X[n + 1];
+      }
+      en = tri_kernel<Corot>(g, u, lam, mu, fl, detF, nullptr);
+      for (int a = 0; a < 3; ++a) {
+        f[3 * c[a]] += fl[2 * a];
+        f[3 * c[a] + 1] += fl[2 * a + 1];
+      }
+    } else {
+      double u[8], fl[8];
+      for (int a = 0; a < 4; ++a) {
+        const int n = 3 * c[a];
+        u[2 * a] = x[n] - X[n];
+        u[2 * a + 1] = x[n + 1] - X[n + 1];
+      }
+      en = quad_kernel<Corot>(g, u, lam, mu, fl, detF, nullptr);
+      for (int a = 0; a < 4; ++a) {
+        f[3 * c[a]] += fl[2 * a];
+        f[3 * c[a] + 1] += fl[2 * a + 1];
+      }
+    }
+    if (!(detF > 0) && inverted_first < 0) inverted_first = e;
+    if (elem_energy) elem_energy[e] = en;
+    energy += en;
+  }
+  if (first_inverted && inverted_first >= 0 && *first_inverted < 0) *first_inverted = inverted_first;
+  return energy;
 }
 
 } // namespace
@@ -211,152 +498,85 @@ void FeSpace::build(const Mesh& mesh, const Material& mat)
   axisym_ = mesh.dim == 2 && mat.plane == PlaneMode::Axisymmetric;
   const int ne = mesh.num_elems();
   offset_.assign(ne + 1, 0);
-  for (int e = 0; e < ne; ++e) {
-    const ElemType t = mesh.etype[e];
-    offset_[e + 1] = offset_[e] + (t == ElemType::Tet4 ? kTetBlock : t == ElemType::Tri3 ? kTriBlock : kQuadBlock);
-  }
+  for (int e = 0; e < ne; ++e) offset_[e + 1] = offset_[e] + block_size(mesh.etype[e]);
   geo_.assign(offset_[ne], 0.0);
   measure_.assign(ne, 0.0);
   const double* X = mesh.X.data();
-  if (axisym_)
-    for (int i = 0; i < mesh.num_nodes(); ++i)
-      if (X[3 * i] < 0) {
-        std::ostringstream os;
-        os << "axisymmetric mesh has node " << i << " at r = x = " << X[3 * i] << " < 0";
-        throw FeError(-1, os.str());
-      }
-
+  const int nn = mesh.num_nodes();
   for (int e = 0; e < ne; ++e) {
-    const auto& c = mesh.conn[e];
-    double* g = &geo_[offset_[e]];
     const ElemType t = mesh.etype[e];
-    if (elem_dim(t) != mesh.dim) throw FeError(e, elem_msg(e, "has the wrong dimension for the mesh", elem_dim(t)));
-    if (t == ElemType::Tet4) {
-      const double* p0 = X + 3 * c[0];
-      double J[9]; // columns: edges from node 0
-      for (int k = 0; k < 3; ++k) {
-        const double* pk = X + 3 * c[k + 1];
-        for (int i = 0; i < 3; ++i) J[3 * i + k] = pk[i] - p0[i];
+    const int n = nodes_per_elem(t);
+    if (elem_dim(t) != mesh.dim)
+      throw FeError(e, elem_msg(e, "has the wrong dimension for a " + std::to_string(mesh.dim) + "D mesh"));
+    double p[12];
+    for (int a = 0; a < n; ++a) {
+      const int node = mesh.conn[e][a];
+      if (node < 0 || node >= nn) throw FeError(e, elem_msg(e, "refers to a missing node " + std::to_string(node)));
+      for (int i = 0; i < 3; ++i) p[3 * a + i] = X[3 * node + i];
+      if (axisym_ && X[3 * node] < 0) {
+        std::ostringstream os;
+        os << "has node " << node << " at r = x = " << X[3 * node] << " < 0 (axisymmetric meshes need x >= 0)";
+        throw FeError(e, elem_msg(e, os.str()));
       }
-      const double det = det3(J);
-      double h = 0;
-      for (int k = 0; k < 9; ++k) h = std::max(h, std::fabs(J[k]));
-      const double V = det / 6.0;
-      if (det <= 0 && std::fabs(det) > 1e-14 * h * h * h)
-        throw FeError(e, elem_msg(e, "is inverted: negative volume", V) + "; reorder its nodes");
-      if (std::fabs(det) <= 1e-14 * h * h * h) throw FeError(e, elem_msg(e, "is degenerate: volume", V));
-      // inverse of J: dN_k/dX for k = 1..3 are rows of J^-1; dN_0 = -sum.
-      double inv[9];
-      inv[0] = (J[4] * J[8] - J[5] * J[7]) / det;
-      inv[1] = (J[2] * J[7] - J[1] * J[8]) / det;
-      inv[2] = (J[1] * J[5] - J[2] * J[4]) / det;
-      inv[3] = (J[5] * J[6] - J[3] * J[8]) / det;
-      inv[4] = (J[0] * J[8] - J[2] * J[6]) / det;
-      inv[5] = (J[2] * J[3] - J[0] * J[5]) / det;
-      inv[6] = (J[3] * J[7] - J[4] * J[6]) / det;
-      inv[7] = (J[1] * J[6] - J[0] * J[7]) / det;
-      inv[8] = (J[0] * J[4] - J[1] * J[3]) / det;
-      for (int j = 0; j < 3; ++j) {
-        g[0 + j] = -(inv[0 + j] + inv[3 + j] + inv[6 + j]);
-        for (int k = 0; k < 3; ++k) g[3 * (k + 1) + j] = inv[3 * k + j];
-      }
-      g[12] = V;
-      measure_[e] = V;
-    } else if (t == ElemType::Tri3) {
-      const double x0 = X[3 * c[0]], y0 = X[3 * c[0] + 1];
-      const double x1 = X[3 * c[1]], y1 = X[3 * c[1] + 1];
-      const double x2 = X[3 * c[2]], y2 = X[3 * c[2] + 1];
-      const double A2 = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
-      const double h = std::max({std::fabs(x1 - x0), std::fabs(x2 - x0), std::fabs(y1 - y0), std::fabs(y2 - y0)});
-      if (A2 <= 0 && std::fabs(A2) > 1e-14 * h * h)
-        throw FeError(e, elem_msg(e, "is inverted: negative area", 0.5 * A2) + "; order nodes counter-clockwise");
-      if (std::fabs(A2) <= 1e-14 * h * h) throw FeError(e, elem_msg(e, "is degenerate: area", 0.5 * A2));
-      const double A = 0.5 * A2;
-      g[0] = (y1 - y2) / A2; g[1] = (x2 - x1) / A2;
-      g[2] = (y2 - y0) / A2; g[3] = (x0 - x2) / A2;
-      g[4] = (y0 - y1) / A2; g[5] = (x1 - x0) / A2;
-      const double r = (x0 + x1 + x2) / 3.0;
-      if (axisym_) {
-        g[6] = 2 * M_PI * r * A;
-        for (int a = 0; a < 3; ++a) g[7 + a] = 1.0 / (3.0 * r);
-      } else {
-        g[6] = A * mat.thickness;
-      }
-      g[10] = r;
-      measure_[e] = A;
-    } else { // Quad4
-      double area = 0;
-      double h = 0;
-      for (int a = 0; a < 4; ++a)
-        for (int i = 0; i < 2; ++i) h = std::max(h, std::fabs(X[3 * c[a] + i] - X[3 * c[0] + i]));
-      for (int q = 0; q < 4; ++q) {
-        double N[4], dNdxi[4][2];
-        quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
-        double J[4] = {0, 0, 0, 0}, r = 0;
-        for (int a = 0; a < 4; ++a) {
-          const double xa = X[3 * c[a]], ya = X[3 * c[a] + 1];
-          J[0] += xa * dNdxi[a][0]; J[1] += xa * dNdxi[a][1];
-          J[2] += ya * dNdxi[a][0]; J[3] += ya * dNdxi[a][1];
-          r += N[a] * xa;
-        }
-        const double det = J[0] * J[3] - J[1] * J[2];
-        if (det <= 1e-14 * h * h)
-          throw FeError(e, elem_msg(e, det < 0 ? "is inverted or non-convex: negative Jacobian"
-                                               : "is degenerate: Jacobian", det));
-        double* gp = g + q * kQuadPoint;
-        for (int a = 0; a < 4; ++a) {
-          gp[2 * a] = (J[3] * dNdxi[a][0] - J[2] * dNdxi[a][1]) / det;
-          gp[2 * a + 1] = (-J[1] * dNdxi[a][0] + J[0] * dNdxi[a][1]) / det;
-        }
-        if (axisym_) {
-          if (r <= 0) throw FeError(e, elem_msg(e, "has an integration point at r <= 0", r));
-          gp[8] = 2 * M_PI * r * det;
-          for (int a = 0; a < 4; ++a) gp[9 + a] = N[a] / r;
-        } else {
-          gp[8] = det * mat.thickness;
-        }
-        gp[13] = r;
-        area += det;
-      }
-      measure_[e] = area;
+    }
+    double value = 0;
+    const Geo st = element_geometry(t, p, axisym_, mat.thickness, &geo_[offset_[e]], measure_[e], value);
+    if (st != Geo::Ok) {
+      std::ostringstream os;
+      if (st == Geo::Inverted)
+        os << "is inverted: negative " << (t == ElemType::Tet4 ? "volume " : t == ElemType::Tri3 ? "area " : "Jacobian ")
+           << value << (t == ElemType::Tet4 ? "; reorder its nodes" : "; order its nodes counter-clockwise");
+      else
+        os << "is degenerate: " << (t == ElemType::Tet4 ? "volume " : t == ElemType::Tri3 ? "area " : "Jacobian ")
+           << value << " is too small for its size";
+      throw FeError(e, elem_msg(e, os.str()));
     }
   }
 }
 
 /* ---------------------------------------------------------------------- */
 
+void FeSpace::element_masses(const Mesh& mesh, int e, double me[4]) const
+{
+  const double rho = mat_.rho;
+  const double* g = &geo_[offset_[e]];
+  const auto& c = mesh.conn[e];
+  me[0] = me[1] = me[2] = me[3] = 0;
+  switch (mesh.etype[e]) {
+    case ElemType::Tet4:
+      for (int a = 0; a < 4; ++a) me[a] = rho * g[12] / 4.0;
+      break;
+    case ElemType::Tri3:
+      if (axisym_) {
+        // exact row sums of the r-weighted consistent mass: 2 pi rho A (2 r_a + r_b + r_c) / 12
+        const double* X = mesh.X.data();
+        const double rs = X[3 * c[0]] + X[3 * c[1]] + X[3 * c[2]];
+        for (int a = 0; a < 3; ++a) me[a] = 2 * kPi * rho * measure_[e] * (rs + X[3 * c[a]]) / 12.0;
+      } else {
+        for (int a = 0; a < 3; ++a) me[a] = rho * g[6] / 3.0;
+      }
+      break;
+    case ElemType::Quad4:
+      // row sums sum_q w_q N_a(q): exact for r N_a det J (cubic) with 2x2 Gauss
+      for (int q = 0; q < 4; ++q) {
+        double N[4], dNdxi[4][2];
+        quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
+        const double w = g[q * kQuadPoint + 8];
+        for (int a = 0; a < 4; ++a) me[a] += rho * w * N[a];
+      }
+      break;
+  }
+}
+
 void FeSpace::lumped_masses(const Mesh& mesh, std::vector<double>& m) const
 {
   m.assign(mesh.num_nodes(), 0.0);
-  const double rho = mat_.rho;
-  const double* X = mesh.X.data();
   for (int e = 0; e < mesh.num_elems(); ++e) {
     if (!mesh.active[e]) continue;
-    const auto& c = mesh.conn[e];
-    const double* g = &geo_[offset_[e]];
-    switch (mesh.etype[e]) {
-      case ElemType::Tet4:
-        for (int a = 0; a < 4; ++a) m[c[a]] += rho * g[12] / 4.0;
-        break;
-      case ElemType::Tri3:
-        if (axisym_) {
-          // exact row sums of the r-weighted consistent mass: 2 pi rho A (2 r_a + r_b + r_c) / 12
-          const double A = measure_[e];
-          const double rs = X[3 * c[0]] + X[3 * c[1]] + X[3 * c[2]];
-          for (int a = 0; a < 3; ++a) m[c[a]] += 2 * M_PI * rho * A * (rs + X[3 * c[a]]) / 12.0;
-        } else {
-          for (int a = 0; a < 3; ++a) m[c[a]] += rho * g[6] / 3.0;
-        }
-        break;
-      case ElemType::Quad4:
-        for (int q = 0; q < 4; ++q) {
-          double N[4], dNdxi[4][2];
-          quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
-          const double w = g[q * kQuadPoint + 8];
-          for (int a = 0; a < 4; ++a) m[c[a]] += rho * w * N[a];
-        }
-        break;
-    }
+    double me[4];
+    element_masses(mesh, e, me);
+    const int n = nodes_per_elem(mesh.etype[e]);
+    for (int a = 0; a < n; ++a) m[mesh.conn[e][a]] += me[a];
   }
 }
 
@@ -365,58 +585,14 @@ void FeSpace::lumped_masses(const Mesh& mesh, std::vector<double>& m) const
 double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
                                     double* f, double* elem_energy, int* first_inverted) const
 {
-  const bool corot = mat_.kinematics == Kinematics::Corotational;
+  e_begin = std::max(e_begin, 0);
+  e_end = std::min(e_end, mesh.num_elems());
   const double lam = mat_.lambda(), mu = mat_.mu();
-  const double* X = mesh.X.data();
-  double energy = 0;
-  for (int e = e_begin; e < e_end; ++e) {
-    if (!mesh.active[e]) {
-      if (elem_energy) elem_energy[e] = 0;
-      continue;
-    }
-    const auto& c = mesh.conn[e];
-    const double* g = &geo_[offset_[e]];
-    double ee = 0, detF = 1;
-    bool inverted = false;
-    if (mesh.etype[e] == ElemType::Tet4) {
-      double xl[12], Xl[12], fl[12];
-      for (int a = 0; a < 4; ++a)
-        for (int i = 0; i < 3; ++i) {
-          xl[3 * a + i] = x[3 * c[a] + i];
-          Xl[3 * a + i] = X[3 * c[a] + i];
-        }
-      ee = tet_force(g, xl, Xl, corot, lam, mu, fl, detF);
-      inverted = detF <= 0;
-      for (int a = 0; a < 4; ++a) {
-        double* fa = f + 3 * c[a];
-        fa[0] += fl[3 * a];
-        fa[1] += fl[3 * a + 1];
-        fa[2] += fl[3 * a + 2];
-      }
-    } else {
-      const int n = mesh.etype[e] == ElemType::Tri3 ? 3 : 4;
-      const int npts = n == 3 ? 1 : 4;
-      const int stride = n == 3 ? kTriBlock : kQuadPoint;
-      double xl[8], Xl[8], fl[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-      for (int a = 0; a < n; ++a)
-        for (int i = 0; i < 2; ++i) {
-          xl[2 * a + i] = x[3 * c[a] + i];
-          Xl[2 * a + i] = X[3 * c[a] + i];
-        }
-      for (int q = 0; q < npts; ++q) {
-        ee += point2d_force(g + q * stride, n, xl, Xl, corot, lam, mu, fl, detF, nullptr);
-        inverted = inverted || detF <= 0;
-      }
-      for (int a = 0; a < n; ++a) {
-        f[3 * c[a]] += fl[2 * a];
-        f[3 * c[a] + 1] += fl[2 * a + 1];
-      }
-    }
-    if (inverted && first_inverted && *first_inverted < 0) *first_inverted = e;
-    if (elem_energy) elem_energy[e] = ee;
-    energy += ee;
-  }
-  return energy;
+  if (mat_.kinematics == Kinematics::Corotational)
+    return forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, lam, mu, f,
+                             elem_energy, first_inverted);
+  return forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, lam, mu, f,
+                            elem_energy, first_inverted);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -429,51 +605,30 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   const auto& c = mesh.conn[e];
   const double* g = &geo_[offset_[e]];
   const double* X = mesh.X.data();
+  double fl[12], detF;
   if (mesh.etype[e] == ElemType::Tet4) {
-    const double* dN = g;
-    double F[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, H[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double u[12];
     for (int a = 0; a < 4; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          F[3 * i + j] += x[3 * c[a] + i] * dN[3 * a + j];
-          H[3 * i + j] += (x[3 * c[a] + i] - X[3 * c[a] + i]) * dN[3 * a + j];
-        }
-    double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    if (corot) {
-      polar_rotation(F, R);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          H[3 * i + j] = R[i] * F[j] + R[3 + i] * F[3 + j] + R[6 + i] * F[6 + j] - (i == j ? 1 : 0);
-    }
-    const double tr = H[0] + H[4] + H[8];
-    double s[9] = {lam * tr + 2 * mu * H[0], mu * (H[1] + H[3]), mu * (H[2] + H[6]),
-                   mu * (H[1] + H[3]), lam * tr + 2 * mu * H[4], mu * (H[5] + H[7]),
-                   mu * (H[2] + H[6]), mu * (H[5] + H[7]), lam * tr + 2 * mu * H[8]};
-    // Cauchy ~ R s R^T (small strains)
-    double t[9], r[9];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) t[3 * i + j] = R[3 * i] * s[j] + R[3 * i + 1] * s[3 + j] + R[3 * i + 2] * s[6 + j];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) r[3 * i + j] = t[3 * i] * R[3 * j] + t[3 * i + 1] * R[3 * j + 1] + t[3 * i + 2] * R[3 * j + 2];
-    sigma[0] = r[0]; sigma[1] = r[4]; sigma[2] = r[8];
-    sigma[3] = r[1]; sigma[4] = r[5]; sigma[5] = r[2];
+      for (int i = 0; i < 3; ++i) u[3 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
+    if (corot) tet_kernel<true>(g, u, lam, mu, fl, detF, sigma);
+    else tet_kernel<false>(g, u, lam, mu, fl, detF, sigma);
     return;
   }
-  const int n = mesh.etype[e] == ElemType::Tri3 ? 3 : 4;
-  const int npts = n == 3 ? 1 : 4;
-  const int stride = n == 3 ? kTriBlock : kQuadPoint;
-  double xl[8], Xl[8], fl[8] = {0, 0, 0, 0, 0, 0, 0, 0}, acc[4] = {0, 0, 0, 0}, detF;
+  const int n = nodes_per_elem(mesh.etype[e]);
+  double u[8], s4[4];
   for (int a = 0; a < n; ++a)
-    for (int i = 0; i < 2; ++i) {
-      xl[2 * a + i] = x[3 * c[a] + i];
-      Xl[2 * a + i] = X[3 * c[a] + i];
-    }
-  for (int q = 0; q < npts; ++q) point2d_force(g + q * stride, n, xl, Xl, corot, lam, mu, fl, detF, acc);
-  sigma[0] = acc[0] / npts;
-  sigma[1] = acc[1] / npts;
-  sigma[3] = acc[3] / npts;
-  // plane strain: sigma_zz = lambda * tr(eps) is what the hoop slot holds with eps_th = 0
-  sigma[2] = acc[2] / npts;
+    for (int i = 0; i < 2; ++i) u[2 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
+  if (mesh.etype[e] == ElemType::Tri3) {
+    if (corot) tri_kernel<true>(g, u, lam, mu, fl, detF, s4);
+    else tri_kernel<false>(g, u, lam, mu, fl, detF, s4);
+  } else {
+    if (corot) quad_kernel<true>(g, u, lam, mu, fl, detF, s4);
+    else quad_kernel<false>(g, u, lam, mu, fl, detF, s4);
+  }
+  sigma[0] = s4[0];
+  sigma[1] = s4[1];
+  sigma[2] = s4[2]; // plane strain: sigma_zz = lambda tr(eps) = nu (sxx + syy); axisymmetric: hoop
+  sigma[3] = s4[3];
 }
 
 double FeSpace::von_mises(const double s[6])
@@ -484,63 +639,76 @@ double FeSpace::von_mises(const double s[6])
 
 /* ---------------------------------------------------------------------- */
 
-double FeSpace::stable_time_step(const Mesh& mesh, const double* /*x*/) const
+// Provable upper bound of lambda_max(M_e^-1 K_e) for element e (lumped, diagonal M_e).
+// For the assembled mesh omega_max^2 = max_u u^T K u / u^T M u <= max_e lambda_max(M_e^-1 K_e)
+// (sum of element Rayleigh quotients), and lambda_max(M_e^-1 K_e) <= lambda_max(K_e) / min_a m_a.
+// At an integration point 2W = lambda' theta^2 + 2 mu |eps|^2 with theta = sum_a u_a . b_a and
+// eps = sym(sum_a u_a (x) grad N_a) (+ hoop strain); Cauchy-Schwarz gives theta^2 <= |u|^2 T1,
+// |eps|^2 <= |u|^2 T2 with T1 = sum_a |b_a|^2, T2 = sum_a (|grad N_a|^2 + hoop_a^2). Hence
+// lambda_max(K_e) <= sum_q w_q (lambda' T1 + 2 mu T2). lambda' = lambda, or lambda + 2mu/3 for
+// the B-bar quad (Jensen: the averaged dilatation has no more energy than the pointwise one).
+// For a tet this is omega^2 <= 4 c^2 sum_a 1/h_a^2 (h_a: altitudes), i.e. characteristic
+// length l = 2 / sqrt(4 sum_a h_a^-2) >= h_min / 2... the usual "min altitude" length divided by
+// a shape-aware factor. Corotational K = R K0 R^T has the same eigenvalues as K0 (geometric
+// stiffness neglected, as in all explicit codes); the bound is also taken with the geometry of
+// the current configuration x so strongly deformed elements are covered, and the larger wins.
+double FeSpace::omega2_bound(const Mesh& mesh, const double* x, int e) const
 {
-  // Element stiffness from unit displacements of the small-strain kernel (exact: it is linear),
-  // lumped element masses, Gershgorin: omega^2 <= max_i sum_j |K_ij| / m_i. The element bound
-  // holds for the assembled mesh (Rayleigh quotient of sums), and K is rotation invariant, so the
-  // reference configuration serves the corotational formulation too.
+  const ElemType t = mesh.etype[e];
+  const int n = nodes_per_elem(t);
   const double lam = mat_.lambda(), mu = mat_.mu();
-  const double* X = mesh.X.data();
-  double w2max = 0;
-  for (int e = 0; e < mesh.num_elems(); ++e) {
-    if (!mesh.active[e]) continue;
-    const auto& c = mesh.conn[e];
-    const double* g = &geo_[offset_[e]];
-    const ElemType t = mesh.etype[e];
-    const int n = nodes_per_elem(t);
-    const int nd = t == ElemType::Tet4 ? 3 : 2;
-    const int ndof = n * nd;
-    double K[144];
-    double Xl[12], xl[12], fl[12], detF;
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < nd; ++i) Xl[nd * a + i] = X[3 * c[a] + i];
-    for (int j = 0; j < ndof; ++j) {
-      for (int k = 0; k < ndof; ++k) xl[k] = Xl[k] + (k == j ? 1.0 : 0.0);
-      if (t == ElemType::Tet4) {
-        tet_force(g, xl, Xl, false, lam, mu, fl, detF);
-      } else {
-        for (int k = 0; k < ndof; ++k) fl[k] = 0;
-        const int npts = n == 3 ? 1 : 4;
-        const int stride = n == 3 ? kTriBlock : kQuadPoint;
-        for (int q = 0; q < npts; ++q) point2d_force(g + q * stride, n, xl, Xl, false, lam, mu, fl, detF, nullptr);
-      }
-      for (int k = 0; k < ndof; ++k) K[k * ndof + j] = -fl[k];
-    }
-    // element lumped masses
-    double me[4] = {0, 0, 0, 0};
+  const double lamv = t == ElemType::Quad4 ? lam + 2.0 * mu / 3.0 : lam;
+  double me[4];
+  element_masses(mesh, e, me);
+  double mmin = 1e300;
+  for (int a = 0; a < n; ++a) mmin = std::min(mmin, me[a]);
+  if (!(mmin > 0)) return 0;
+
+  auto bound_of = [&](const double* g) {
     if (t == ElemType::Tet4) {
-      for (int a = 0; a < 4; ++a) me[a] = mat_.rho * g[12] / 4.0;
-    } else if (t == ElemType::Tri3) {
-      if (axisym_) {
-        const double rs = X[3 * c[0]] + X[3 * c[1]] + X[3 * c[2]];
-        for (int a = 0; a < 3; ++a) me[a] = 2 * M_PI * mat_.rho * measure_[e] * (rs + X[3 * c[a]]) / 12.0;
-      } else {
-        for (int a = 0; a < 3; ++a) me[a] = mat_.rho * g[6] / 3.0;
-      }
-    } else {
-      for (int q = 0; q < 4; ++q) {
-        double N[4], dNdxi[4][2];
-        quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
-        for (int a = 0; a < 4; ++a) me[a] += mat_.rho * g[q * kQuadPoint + 8] * N[a];
-      }
+      double T = 0;
+      for (int k = 0; k < 12; ++k) T += g[k] * g[k];
+      return g[12] * (lamv + 2 * mu) * T;
     }
-    for (int k = 0; k < ndof; ++k) {
-      double row = 0;
-      for (int j = 0; j < ndof; ++j) row += std::fabs(K[k * ndof + j]);
-      w2max = std::max(w2max, row / me[k / nd]);
+    const int npts = t == ElemType::Tri3 ? 1 : 4;
+    const int stride = t == ElemType::Tri3 ? kTriBlock : kQuadPoint;
+    double C = 0;
+    for (int q = 0; q < npts; ++q) {
+      const double* gq = g + q * stride;
+      const double* hoop = gq + 2 * n + 1;
+      double T1 = 0, T2 = 0;
+      for (int a = 0; a < n; ++a) {
+        const double dx = gq[2 * a], dy = gq[2 * a + 1];
+        T1 += (dx + hoop[a]) * (dx + hoop[a]) + dy * dy;
+        T2 += dx * dx + dy * dy + hoop[a] * hoop[a];
+      }
+      C += gq[2 * n] * (lamv * T1 + 2 * mu * T2);
     }
+    return C;
+  };
+
+  double C = bound_of(&geo_[offset_[e]]);
+  if (x) {
+    double p[12], g[kQuadBlock], meas, value;
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i) p[3 * a + i] = x[3 * mesh.conn[e][a] + i];
+    if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) == Geo::Ok)
+      C = std::max(C, bound_of(g));
   }
+  return C / mmin;
+}
+
+double FeSpace::characteristic_length(const Mesh& mesh, const double* x, int e) const
+{
+  const double w2 = omega2_bound(mesh, x, e);
+  return w2 > 0 ? 2.0 / std::sqrt(w2) * mat_.dilatational_wave_speed() : 1e300;
+}
+
+double FeSpace::stable_time_step(const Mesh& mesh, const double* x) const
+{
+  double w2max = 0;
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e]) w2max = std::max(w2max, omega2_bound(mesh, x, e));
   return w2max > 0 ? 2.0 / std::sqrt(w2max) : 1e300;
 }
 
