@@ -7,7 +7,10 @@
 #include "fix.h"
 #include "lammps.h"
 #include "modify.h"
+#include "comm.h"
 
+#include "comm_graph.h"
+#include "fix_balance_graph.h"
 #include "fix_fem_body.h"
 #include "fix_fem_vtk.h"
 
@@ -45,7 +48,14 @@ namespace fracdem {
 void register_styles(LAMMPS* lmp)
 {
   FixMap& fix_map = *(lmp->modify->*member_of(ModifyFixMapTag{}));
+  fix_map["balance/graph"] = &create_fix<FixBalanceGraph>;
   fix_map["fem/body"] = &create_fix<FixFemBody>;
+  // The graph-ownership communicator behaves as the stock Comm until fix balance/graph switches
+  // it on; it must be in place before the input sets the processor grid.
+  if (!dynamic_cast<CommGraph*>(lmp->comm)) {
+    delete lmp->comm;
+    lmp->comm = new CommGraph(lmp);
+  }
   fix_map["fem/vtk"] = &create_fix<FixFemVtk>;
 }
 

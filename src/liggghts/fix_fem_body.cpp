@@ -728,6 +728,9 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
   const double dt = update->dt;
 
   const auto& cand = search_->candidates();
+  // Per-particle work of this step, read by the load balancer (fix balance/graph).
+  facet_checks_.assign(atom->nlocal, 0);
+  facet_contacts_.assign(atom->nlocal, 0);
   std::vector<fracdem::FacetHit> hits;
   size_t c = 0;
   std::vector<char> touched(nslots_);
@@ -748,6 +751,7 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
       else
         h.cp = fracdem::closest_point_segment(x[i], &x_[3 * fc.n[0]], &x_[3 * fc.n[1]]);
       if (h.cp.dist2 < r * r) hits.push_back(h);
+      ++facet_checks_[i];
     }
 
     // Forget history of contacts that ended.
@@ -758,6 +762,7 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
       continue;
     }
     hits = fracdem::resolve_sphere_hits(std::move(hits), x[i], x_.data(), topology_);
+    facet_contacts_[i] += static_cast<int>(hits.size());
 
     const int ti = type[i];
     fracdem::ContactMaterial mat = fracdem::mix_materials(

@@ -57,6 +57,10 @@ public:
   const std::vector<double>& velocities() const { return v_; }
   bool is_rigid() const { return rigid_; }
   double body_time() const { return time_; }
+  // Facet checks and resolved facet contacts per local particle in the last force evaluation
+  // (empty when the body has no contact surface); the load balancer's cost input.
+  const std::vector<int>& facet_checks() const { return facet_checks_; }
+  const std::vector<int>& facet_contacts() const { return facet_contacts_; }
 
   // Number of doubles per history slot: feature key (two exact 32-bit halves) + shear[3].
   static constexpr int kSlotDoubles = 5;
@@ -141,6 +145,7 @@ private:
   std::vector<double> search_sphere_; // x,y,z,r per search sphere at build time
   bool search_stale_ = true;
   std::vector<double> normals_, overlaps_; // per-hit scratch
+  std::vector<int> facet_checks_, facet_contacts_;
   int nrebuilds_ = 0;
 
   // ---- per-atom history ----

@@ -1,0 +1,293 @@
+// Particle graph construction, METIS partitioning, relabelling and pair-search references.
+#include "balance/graph_partition.h"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace fracdem::balance {
+
+Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
+                  const std::vector<WeightedPair>& pairs)
+{
+  if (n < 0 || static_cast<int64_t>(vertex_weight.size()) != n)
+    throw std::invalid_argument("build_graph: vertex_weight must have one entry per vertex");
+  // Both directions of every pair, sorted, then merged: duplicates from either direction sum.
+  std::vector<WeightedPair> dir;
+  dir.reserve(2 * pairs.size());
+  for (const WeightedPair& p : pairs) {
+    if (p.i < 0 || p.i >= n || p.j < 0 || p.j >= n)
+      throw std::invalid_argument("build_graph: pair (" + std::to_string(p.i) + "," +
+                                  std::to_string(p.j) + ") out of range");
+    if (p.i == p.j) continue;
+    const int64_t w = std::max<int64_t>(1, p.w);
+    dir.push_back({p.i, p.j, w});
+    dir.push_back({p.j, p.i, w});
+  }
+  std::sort(dir.begin(), dir.end(), [](const WeightedPair& a, const WeightedPair& b) {
+    return a.i != b.i ? a.i < b.i : a.j < b.j;
+  });
+  Graph g;
+  g.xadj.assign(n + 1, 0);
+  g.vwgt.resize(n);
+  for (int64_t v = 0; v < n; ++v) g.vwgt[v] = std::max<int64_t>(1, vertex_weight[v]);
+  for (size_t k = 0; k < dir.size(); ++k) {
+    if (k > 0 && dir[k].i == dir[k - 1].i && dir[k].j == dir[k - 1].j) {
+      g.adjwgt.back() += dir[k].w;
+      continue;
+    }
+    g.adjncy.push_back(dir[k].j);
+    g.adjwgt.push_back(dir[k].w);
+    ++g.xadj[dir[k].i + 1];
+  }
+  for (int64_t v = 0; v < n; ++v) g.xadj[v + 1] += g.xadj[v];
+  return g;
+}
+
+double imbalance(const std::vector<double>& work_per_part)
+{
+  if (work_per_part.empty()) throw std::invalid_argument("imbalance: no parts");
+  const double sum = std::accumulate(work_per_part.begin(), work_per_part.end(), 0.0);
+  if (sum <= 0) return 1.0;
+  const double mx = *std::max_element(work_per_part.begin(), work_per_part.end());
+  return mx * static_cast<double>(work_per_part.size()) / sum;
+}
+
+std::vector<double> part_loads(const std::vector<double>& vertex_load, const std::vector<int>& part,
+                               int nparts)
+{
+  std::vector<double> load(nparts, 0.0);
+  for (size_t v = 0; v < part.size() && v < vertex_load.size(); ++v)
+    if (part[v] >= 0 && part[v] < nparts) load[part[v]] += vertex_load[v];
+  return load;
+}
+
+int64_t edge_cut(const Graph& g, const std::vector<int>& part)
+{
+  int64_t cut = 0;
+  for (int64_t v = 0; v < g.num_vertices(); ++v)
+    for (int64_t k = g.xadj[v]; k < g.xadj[v + 1]; ++k)
+      if (part[v] != part[g.adjncy[k]]) cut += g.adjwgt[k];
+  return cut / 2; // each cut edge was seen from both ends
+}
+
+namespace {
+
+template <typename T> idx_t to_idx(T v)
+{
+  if (v > static_cast<T>(std::numeric_limits<idx_t>::max()))
+    throw std::overflow_error("partition_kway: graph too large for METIS idx_t");
+  return static_cast<idx_t>(v);
+}
+
+// Divides all weights by a common factor if their sum would overflow idx_t inside METIS.
+std::vector<idx_t> scaled_weights(const std::vector<int64_t>& w)
+{
+  const double total = std::accumulate(w.begin(), w.end(), 0.0);
+  const double limit = static_cast<double>(std::numeric_limits<idx_t>::max()) / 4;
+  const double factor = total > limit ? total / limit : 1.0;
+  std::vector<idx_t> out(w.size());
+  for (size_t k = 0; k < w.size(); ++k)
+    out[k] = std::max<idx_t>(1, static_cast<idx_t>(std::llround(static_cast<double>(w[k]) / factor)));
+  return out;
+}
+
+} // namespace
+
+std::vector<int> partition_kway(const Graph& g, int nparts, double ubfactor)
+{
+  const int64_t n = g.num_vertices();
+  if (n == 0) return {};
+  if (nparts <= 1) return std::vector<int>(n, 0);
+  idx_t nvtxs = to_idx(n), ncon = 1, np = nparts, objval = 0;
+  std::vector<idx_t> xadj(g.xadj.size()), adjncy(g.adjncy.size());
+  for (size_t k = 0; k < xadj.size(); ++k) xadj[k] = to_idx(g.xadj[k]);
+  for (size_t k = 0; k < adjncy.size(); ++k) adjncy[k] = static_cast<idx_t>(g.adjncy[k]);
+  std::vector<idx_t> vwgt = scaled_weights(g.vwgt), adjwgt = scaled_weights(g.adjwgt);
+  std::vector<idx_t> part(n, 0);
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_SEED] = 7;
+  options[METIS_OPTION_CONTIG] = 0;
+  options[METIS_OPTION_UFACTOR] = std::max<idx_t>(1, static_cast<idx_t>(std::lround((ubfactor - 1.0) * 1000)));
+  // METIS rejects an empty adjacency array pointer on some versions: give it a valid one.
+  idx_t dummy = 0;
+  idx_t* adj = adjncy.empty() ? &dummy : adjncy.data();
+  idx_t* adjw = adjwgt.empty() ? &dummy : adjwgt.data();
+  int status = METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adj, vwgt.data(), nullptr, adjw, &np,
+                                   nullptr, nullptr, options, &objval, part.data());
+  if (status != METIS_OK)
+    status = METIS_PartGraphRecursive(&nvtxs, &ncon, xadj.data(), adj, vwgt.data(), nullptr, adjw,
+                                      &np, nullptr, nullptr, options, &objval, part.data());
+  if (status != METIS_OK)
+    throw std::runtime_error("partition_kway: METIS failed with status " + std::to_string(status));
+  return std::vector<int>(part.begin(), part.end());
+}
+
+namespace {
+
+// Hungarian algorithm (potentials, O(n^3)) for a square cost matrix: row r -> column assign[r].
+std::vector<int> hungarian_min(const std::vector<double>& cost, int n)
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> u(n + 1, 0), v(n + 1, 0), minv(n + 1);
+  std::vector<int> p(n + 1, 0), way(n + 1, 0);
+  std::vector<char> used(n + 1);
+  for (int i = 1; i <= n; ++i) {
+    p[0] = i;
+    int j0 = 0;
+    std::fill(minv.begin(), minv.end(), inf);
+    std::fill(used.begin(), used.end(), 0);
+    do {
+      used[j0] = 1;
+      const int i0 = p[j0];
+      double delta = inf;
+      int j1 = 0;
+      for (int j = 1; j <= n; ++j)
+        if (!used[j]) {
+          const double cur = cost[(i0 - 1) * n + (j - 1)] - u[i0] - v[j];
+          if (cur < minv[j]) minv[j] = cur, way[j] = j0;
+          if (minv[j] < delta) delta = minv[j], j1 = j;
+        }
+      for (int j = 0; j <= n; ++j)
+        if (used[j]) u[p[j]] += delta, v[j] -= delta;
+        else minv[j] -= delta;
+      j0 = j1;
+    } while (p[j0] != 0);
+    do {
+      const int j1 = way[j0];
+      p[j0] = p[j1];
+      j0 = j1;
+    } while (j0);
+  }
+  std::vector<int> assign(n);
+  for (int j = 1; j <= n; ++j) assign[p[j] - 1] = j - 1;
+  return assign;
+}
+
+} // namespace
+
+std::vector<int> relabel_max_overlap(const std::vector<int>& new_part,
+                                     const std::vector<int>& old_owner,
+                                     const std::vector<double>& vertex_migration_weight, int nparts)
+{
+  if (nparts <= 1) return new_part;
+  // overlap[a][b]: weight of vertices in new part a that live on rank b now.
+  std::vector<double> overlap(static_cast<size_t>(nparts) * nparts, 0.0);
+  for (size_t v = 0; v < new_part.size(); ++v) {
+    const int a = new_part[v], b = v < old_owner.size() ? old_owner[v] : -1;
+    if (a < 0 || a >= nparts || b < 0 || b >= nparts) continue;
+    overlap[static_cast<size_t>(a) * nparts + b] +=
+        v < vertex_migration_weight.size() ? vertex_migration_weight[v] : 1.0;
+  }
+  for (double& o : overlap) o = -o; // maximise overlap = minimise its negative
+  const std::vector<int> label = hungarian_min(overlap, nparts);
+  std::vector<int> out(new_part.size());
+  for (size_t v = 0; v < new_part.size(); ++v)
+    out[v] = new_part[v] >= 0 && new_part[v] < nparts ? label[new_part[v]] : new_part[v];
+  return out;
+}
+
+double migration_weight(const std::vector<int>& from, const std::vector<int>& to,
+                        const std::vector<double>& vertex_migration_weight)
+{
+  double w = 0;
+  for (size_t v = 0; v < from.size() && v < to.size(); ++v)
+    if (from[v] != to[v]) w += v < vertex_migration_weight.size() ? vertex_migration_weight[v] : 1.0;
+  return w;
+}
+
+namespace {
+
+double min_image(double d, int dim, const double lo[3], const double hi[3], const bool per[3])
+{
+  if (!per[dim]) return d;
+  const double L = hi[dim] - lo[dim];
+  return d - L * std::round(d / L);
+}
+
+} // namespace
+
+std::vector<std::pair<int64_t, int64_t>> brute_force_pairs(const std::vector<double>& xyz,
+                                                           const std::vector<double>& radius,
+                                                           double skin, const double box_lo[3],
+                                                           const double box_hi[3],
+                                                           const bool periodic[3])
+{
+  const int64_t n = static_cast<int64_t>(radius.size());
+  std::vector<std::pair<int64_t, int64_t>> out;
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t j = i + 1; j < n; ++j) {
+      double r2 = 0;
+      for (int d = 0; d < 3; ++d) {
+        const double dd = min_image(xyz[3 * i + d] - xyz[3 * j + d], d, box_lo, box_hi, periodic);
+        r2 += dd * dd;
+      }
+      const double c = radius[i] + radius[j] + skin;
+      if (r2 < c * c) out.emplace_back(i, j);
+    }
+  return out;
+}
+
+std::vector<std::pair<int64_t, int64_t>> binned_pairs(const std::vector<double>& xyz,
+                                                      const std::vector<double>& radius, double skin,
+                                                      const double box_lo[3],
+                                                      const double box_hi[3],
+                                                      const bool periodic[3])
+{
+  const int64_t n = static_cast<int64_t>(radius.size());
+  std::vector<std::pair<int64_t, int64_t>> out;
+  if (n == 0) return out;
+  const double rmax = *std::max_element(radius.begin(), radius.end());
+  const double cell = 2 * rmax + skin;
+  int nb[3];
+  for (int d = 0; d < 3; ++d) nb[d] = std::max(1, static_cast<int>((box_hi[d] - box_lo[d]) / cell));
+  auto bin_of = [&](int64_t i, int d) {
+    const double L = box_hi[d] - box_lo[d];
+    int b = static_cast<int>((xyz[3 * i + d] - box_lo[d]) / L * nb[d]);
+    return std::min(std::max(b, 0), nb[d] - 1);
+  };
+  std::vector<std::vector<int64_t>> bins(static_cast<size_t>(nb[0]) * nb[1] * nb[2]);
+  for (int64_t i = 0; i < n; ++i)
+    bins[(static_cast<size_t>(bin_of(i, 2)) * nb[1] + bin_of(i, 1)) * nb[0] + bin_of(i, 0)].push_back(i);
+  for (int64_t i = 0; i < n; ++i) {
+    const int b[3] = {bin_of(i, 0), bin_of(i, 1), bin_of(i, 2)};
+    // Distinct neighbour bins only: with fewer than 3 bins per dimension the stencil would repeat.
+    std::vector<size_t> seen;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int c[3] = {b[0] + dx, b[1] + dy, b[2] + dz};
+          bool skip = false;
+          for (int d = 0; d < 3; ++d) {
+            if (c[d] < 0 || c[d] >= nb[d]) {
+              if (!periodic[d]) skip = true;
+              c[d] = (c[d] + nb[d]) % nb[d];
+            }
+          }
+          if (skip) continue;
+          const size_t k = (static_cast<size_t>(c[2]) * nb[1] + c[1]) * nb[0] + c[0];
+          if (std::find(seen.begin(), seen.end(), k) != seen.end()) continue;
+          seen.push_back(k);
+          for (int64_t j : bins[k]) {
+            if (j <= i) continue;
+            double r2 = 0;
+            for (int d = 0; d < 3; ++d) {
+              const double dd = min_image(xyz[3 * i + d] - xyz[3 * j + d], d, box_lo, box_hi, periodic);
+              r2 += dd * dd;
+            }
+            const double cut = radius[i] + radius[j] + skin;
+            if (r2 < cut * cut) out.emplace_back(i, j);
+          }
+        }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+} // namespace fracdem::balance

@@ -1,0 +1,75 @@
+// Particle graph (CSR), imbalance metrics, METIS k-way partitioning and migration-minimising relabelling.
+#ifndef FRACDEM_BALANCE_GRAPH_PARTITION_H
+#define FRACDEM_BALANCE_GRAPH_PARTITION_H
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace fracdem::balance {
+
+// Undirected weighted graph in CSR form (each edge stored in both directions), ready for METIS.
+struct Graph {
+  std::vector<int64_t> xadj;   // size n+1
+  std::vector<int64_t> adjncy; // neighbours
+  std::vector<int64_t> vwgt;   // vertex weights (>= 1)
+  std::vector<int64_t> adjwgt; // edge weights, parallel to adjncy (>= 1)
+  int64_t num_vertices() const { return xadj.empty() ? 0 : static_cast<int64_t>(xadj.size()) - 1; }
+  int64_t num_edges() const { return static_cast<int64_t>(adjncy.size()) / 2; }
+};
+
+struct WeightedPair {
+  int64_t i, j;
+  int64_t w;
+};
+
+// Merges duplicate pairs (i,j)/(j,i) by summing weights, drops self loops, symmetrises; weights
+// are clamped to >= 1. Throws std::invalid_argument on out-of-range ids or a weight vector of the
+// wrong size.
+Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
+                  const std::vector<WeightedPair>& pairs);
+
+// max/avg of per-part work; 1 when the total is zero. Throws std::invalid_argument on empty input.
+double imbalance(const std::vector<double>& work_per_part);
+
+// Sum of vertex loads per part.
+std::vector<double> part_loads(const std::vector<double>& vertex_load, const std::vector<int>& part,
+                               int nparts);
+
+// Sum of the weights of edges whose ends lie in different parts.
+int64_t edge_cut(const Graph& g, const std::vector<int>& part);
+
+// METIS k-way (recursive bisection if k-way fails) with a fixed seed: deterministic. nparts == 1
+// gives all zeros without calling METIS. ubfactor 1.02 allows 2 % imbalance of vertex weights.
+// Throws std::runtime_error if METIS fails, std::overflow_error if the graph does not fit idx_t.
+std::vector<int> partition_kway(const Graph& g, int nparts, double ubfactor = 1.02);
+
+// Permutes the labels of new_part so that the migration weight (vertices whose label differs
+// from old_owner) is minimal: an exact assignment problem, solved by the Hungarian algorithm.
+// old_owner values outside [0, nparts) mean "no current owner".
+std::vector<int> relabel_max_overlap(const std::vector<int>& new_part,
+                                     const std::vector<int>& old_owner,
+                                     const std::vector<double>& vertex_migration_weight, int nparts);
+
+// Total weight of the vertices whose assignment differs.
+double migration_weight(const std::vector<int>& from, const std::vector<int>& to,
+                        const std::vector<double>& vertex_migration_weight);
+
+// All pairs i<j of spheres whose centres are closer than r_i + r_j + skin, minimum image in the
+// periodic dimensions: O(n^2) reference for tests.
+std::vector<std::pair<int64_t, int64_t>> brute_force_pairs(const std::vector<double>& xyz,
+                                                           const std::vector<double>& radius,
+                                                           double skin, const double box_lo[3],
+                                                           const double box_hi[3],
+                                                           const bool periodic[3]);
+
+// The same set from cell bins (27-cell stencil, periodic wrap), sorted.
+std::vector<std::pair<int64_t, int64_t>> binned_pairs(const std::vector<double>& xyz,
+                                                      const std::vector<double>& radius, double skin,
+                                                      const double box_lo[3],
+                                                      const double box_hi[3],
+                                                      const bool periodic[3]);
+
+} // namespace fracdem::balance
+
+#endif

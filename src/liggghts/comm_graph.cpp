@@ -1,0 +1,351 @@
+// Graph-ownership communicator: exchange to balancer-chosen ranks, ghosts by cover-box overlap.
+#include "comm_graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "atom.h"
+#include "atom_vec.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "memory.h"
+#include "modify.h"
+#include "neighbor.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+constexpr int kExchangeSlack = 1000; // doubles beyond the per-atom maximum, as the stock comm
+constexpr std::int64_t kMaxCells = std::int64_t(1) << 24; // cover grid size limit
+} // namespace
+
+CommGraph::CommGraph(LAMMPS *lmp) : Comm(lmp) {}
+
+void CommGraph::enable_graph_ownership(const char *caller)
+{
+  if (graph_mode_) return;
+  char msg[512];
+  if (domain->triclinic) {
+    snprintf(msg, sizeof msg, "%s: graph ownership needs an orthogonal box (triclinic given)", caller);
+    error->all(FLERR, msg);
+  }
+  if (style != 0) { // 0 == SINGLE in the host's comm.cpp
+    snprintf(msg, sizeof msg, "%s: graph ownership supports 'communicate single' only", caller);
+    error->all(FLERR, msg);
+  }
+  if (exchangeEvents) {
+    snprintf(msg, sizeof msg, "%s: graph ownership cannot record exchange events (CFD coupling)",
+             caller);
+    error->all(FLERR, msg);
+  }
+  graph_mode_ = true;
+  // New swap pattern and neighbour bins that span the whole box; exchange() restores the brick.
+  setup();
+  if (neighbor->style) neighbor->setup_bins();
+  domain->set_local_box();
+}
+
+void CommGraph::build_swaps()
+{
+  shifts_.clear();
+  const int *periodic = domain->periodicity;
+  const int zmax = domain->dimension == 3 ? 1 : 0;
+  shifts_.push_back({0, 0, 0});
+  for (int sz = -zmax; sz <= zmax; ++sz)
+    for (int sy = -1; sy <= 1; ++sy)
+      for (int sx = -1; sx <= 1; ++sx) {
+        if (sx == 0 && sy == 0 && sz == 0) continue;
+        if ((sx && !periodic[0]) || (sy && !periodic[1]) || (sz && !periodic[2])) continue;
+        shifts_.push_back({sx, sy, sz});
+      }
+  const int nshift = static_cast<int>(shifts_.size());
+  nswap = nprocs * nshift;
+  if (nswap > maxswap) grow_swap(nswap);
+  for (int k = 0; k < nprocs; ++k)
+    for (int s = 0; s < nshift; ++s) {
+      const int iswap = k * nshift + s;
+      sendproc[iswap] = (me + k) % nprocs;
+      recvproc[iswap] = (me - k + nprocs) % nprocs;
+      pbc_flag[iswap] = s != 0;
+      for (int d = 0; d < 6; ++d) pbc[iswap][d] = d < 3 ? shifts_[s][d] : 0;
+      sendnum[iswap] = recvnum[iswap] = 0;
+      size_forward_recv[iswap] = size_reverse_send[iswap] = size_reverse_recv[iswap] = 0;
+      firstrecv[iswap] = atom->nlocal;
+    }
+}
+
+void CommGraph::setup()
+{
+  if (!graph_mode_) {
+    Comm::setup();
+    return;
+  }
+  // Ghost cutoff exactly as the stock comm computes it.
+  double cut = std::max(neighbor->cutneighmax, cutghostuser);
+  for (int i = 0; i < modify->nfix; ++i)
+    if (modify->fix[i]->use_rad_for_cut_neigh_and_ghost())
+      cut = std::max(cut, modify->fix[i]->extend_cut_ghost() + neighbor->skin);
+  cutghost[0] = cutghost[1] = cutghost[2] = cut;
+  build_swaps();
+  // Neighbour bins are laid out over domain->sublo/subhi by the setup_bins() call that follows;
+  // owned atoms may lie anywhere in the box, so the bins must span all of it.
+  for (int d = 0; d < 3; ++d) {
+    domain->sublo[d] = domain->boxlo[d];
+    domain->subhi[d] = domain->boxhi[d];
+  }
+}
+
+void CommGraph::exchange()
+{
+  if (!graph_mode_) {
+    Comm::exchange();
+    return;
+  }
+  const double t_start = MPI_Wtime();
+  domain->set_local_box(); // the brick again, for insertion and is_in_subdomain users
+
+  if (map_style) atom->map_clear();
+  atom->nghost = 0;
+  atom->avec->clear_bonus();
+
+  AtomVec *avec = atom->avec;
+  int nlocal = atom->nlocal;
+  std::vector<int> dest;
+  if (static_cast<int>(pending_dest_.size()) == nlocal) dest.swap(pending_dest_);
+  else dest.assign(nlocal, me);
+  pending_dest_.clear();
+
+  const int *periodic = domain->periodicity;
+  const double *lo = domain->boxlo, *hi = domain->boxhi;
+  const int per_atom_max = maxexchange_atom + maxexchange_fix + kExchangeSlack;
+  out_buf_.resize(nprocs);
+  for (auto &b : out_buf_) b.clear();
+
+  int migrated = 0;
+  int i = 0;
+  while (i < nlocal) {
+    double *xi = atom->x[i];
+    bool outside = false;
+    for (int d = 0; d < domain->dimension; ++d)
+      if (!periodic[d] && (xi[d] < lo[d] || xi[d] >= hi[d])) outside = true;
+    if (outside || dest[i] != me) {
+      if (!outside) {
+        std::vector<double> &b = out_buf_[dest[i]];
+        const size_t at = b.size();
+        b.resize(at + per_atom_max);
+        const int n = avec->pack_exchange(i, &b[at]);
+        b.resize(at + n);
+        ++migrated;
+      }
+      avec->copy(nlocal - 1, i, 1);
+      dest[i] = dest[nlocal - 1];
+      --nlocal;
+    } else {
+      ++i;
+    }
+  }
+  atom->nlocal = nlocal;
+
+  int any = migrated;
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_SUM, world);
+  if (any) {
+    std::vector<int> send_count(nprocs), recv_count(nprocs), send_disp(nprocs), recv_disp(nprocs);
+    std::vector<double> send_all;
+    for (int p = 0; p < nprocs; ++p) {
+      send_disp[p] = static_cast<int>(send_all.size());
+      send_count[p] = static_cast<int>(out_buf_[p].size());
+      send_all.insert(send_all.end(), out_buf_[p].begin(), out_buf_[p].end());
+    }
+    MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, world);
+    int total = 0;
+    for (int p = 0; p < nprocs; ++p) {
+      recv_disp[p] = total;
+      total += recv_count[p];
+    }
+    in_buf_.resize(std::max(total, 1));
+    MPI_Alltoallv(send_all.data(), send_count.data(), send_disp.data(), MPI_DOUBLE, in_buf_.data(),
+                  recv_count.data(), recv_disp.data(), MPI_DOUBLE, world);
+    int m = 0;
+    while (m < total) m += avec->unpack_exchange(&in_buf_[m]);
+    migration_seconds_ += MPI_Wtime() - t_start;
+  }
+  last_migrated_ = migrated;
+
+  bigint nlocal_big = atom->nlocal;
+  MPI_Allreduce(&nlocal_big, &atom->natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (atom->firstgroupname) atom->first_reorder();
+}
+
+void CommGraph::borders()
+{
+  if (!graph_mode_) {
+    Comm::borders();
+    return;
+  }
+  AtomVec *avec = atom->avec;
+  const int nlocal = atom->nlocal;
+  double **x = atom->x;
+
+  // Cover of each rank: the cells (edge >= ghost cutoff) that hold its owned atoms, plus the
+  // cells of its brick when an insertion fix needs to see every particle near the brick. An atom
+  // image within the cutoff of an owned atom of rank q lies in a cell adjacent to one of q's
+  // cells, so sending each atom to the ranks of its 27 neighbouring cells is complete.
+  const double *prd = domain->prd, *boxlo = domain->boxlo;
+  const int *periodic = domain->periodicity;
+  const int dim = domain->dimension;
+  std::int64_t ncell[3] = {1, 1, 1};
+  double cell_size[3] = {prd[0], prd[1], prd[2]};
+  {
+    // Coarsen uniformly if the grid would be huge (a coarser cover is still complete).
+    double coarsen = 1.0;
+    for (;;) {
+      std::int64_t total = 1;
+      for (int d = 0; d < dim; ++d) {
+        ncell[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>(prd[d] / (cutghost[d] * coarsen)));
+        total *= ncell[d];
+      }
+      if (total <= kMaxCells) break;
+      coarsen *= 1.26;
+    }
+    for (int d = 0; d < dim; ++d) cell_size[d] = prd[d] / ncell[d];
+  }
+  auto cell_coord = [&](double x, int d) {
+    std::int64_t c = static_cast<std::int64_t>(std::floor((x - boxlo[d]) / cell_size[d]));
+    return std::min(std::max<std::int64_t>(c, 0), ncell[d] - 1);
+  };
+  auto cell_id = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+    return (cz * ncell[1] + cy) * ncell[0] + cx;
+  };
+
+  std::vector<std::int64_t> my_cells;
+  my_cells.reserve(nlocal);
+  for (int i = 0; i < nlocal; ++i) {
+    std::int64_t c[3] = {0, 0, 0};
+    for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
+    my_cells.push_back(cell_id(c[0], c[1], c[2]));
+  }
+  if (cover_brick_) {
+    std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+      lo[d] = cell_coord(domain->sublo[d], d);
+      hi[d] = cell_coord(domain->subhi[d], d);
+    }
+    for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz)
+      for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
+        for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) my_cells.push_back(cell_id(cx, cy, cz));
+  }
+  std::sort(my_cells.begin(), my_cells.end());
+  my_cells.erase(std::unique(my_cells.begin(), my_cells.end()), my_cells.end());
+
+  // Everyone's occupied cells, as sorted (cell, rank) pairs.
+  int my_count = static_cast<int>(my_cells.size());
+  std::vector<int> counts(nprocs), displs(nprocs);
+  MPI_Allgather(&my_count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int p = 0; p < nprocs; ++p) displs[p] = total, total += counts[p];
+  std::vector<std::int64_t> all_cells(std::max(total, 1));
+  MPI_Allgatherv(my_cells.data(), my_count, MPI_INT64_T, all_cells.data(), counts.data(),
+                 displs.data(), MPI_INT64_T, world);
+  cell_owner_.clear();
+  cell_owner_.reserve(total);
+  for (int p = 0; p < nprocs; ++p)
+    for (int k = displs[p]; k < displs[p] + counts[p]; ++k) cell_owner_.push_back({all_cells[k], p});
+  std::sort(cell_owner_.begin(), cell_owner_.end());
+
+  const int nshift = static_cast<int>(shifts_.size());
+  for (int iswap = 0; iswap < nswap; ++iswap) sendnum[iswap] = 0;
+  auto shift_index = [&](const int sh[3]) {
+    for (int s = 0; s < nshift; ++s)
+      if (shifts_[s][0] == sh[0] && shifts_[s][1] == sh[1] && shifts_[s][2] == sh[2]) return s;
+    return -1;
+  };
+  const int zr = dim == 3 ? 1 : 0;
+  std::vector<int> targets; // swap indices this atom goes to, deduplicated
+  for (int i = 0; i < nlocal; ++i) {
+    std::int64_t c[3] = {0, 0, 0};
+    for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
+    targets.clear();
+    for (int dz = -zr; dz <= zr; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int off[3] = {dx, dy, dz};
+          std::int64_t n[3];
+          int sh[3] = {0, 0, 0};
+          bool valid = true;
+          for (int d = 0; d < 3; ++d) {
+            n[d] = c[d] + off[d];
+            if (n[d] < 0 || n[d] >= ncell[d]) {
+              if (!periodic[d] || d >= dim) { valid = false; break; }
+              // The neighbouring cell is across the boundary: its owners need the image of i
+              // shifted into their side of the box.
+              sh[d] = n[d] < 0 ? 1 : -1;
+              n[d] = n[d] < 0 ? n[d] + ncell[d] : n[d] - ncell[d];
+            }
+          }
+          if (!valid) continue;
+          const int s = shift_index(sh);
+          const std::int64_t id = cell_id(n[0], n[1], n[2]);
+          auto range = std::equal_range(cell_owner_.begin(), cell_owner_.end(),
+                                        std::pair<std::int64_t, int>{id, -1},
+                                        [](const auto &a, const auto &b) { return a.first < b.first; });
+          for (auto it = range.first; it != range.second; ++it) {
+            const int q = it->second;
+            if (q == me && s == 0) continue; // an owned atom is no ghost of itself
+            const int iswap = ((q - me + nprocs) % nprocs) * nshift + s;
+            if (std::find(targets.begin(), targets.end(), iswap) == targets.end())
+              targets.push_back(iswap);
+          }
+        }
+    for (int iswap : targets) {
+      if (sendnum[iswap] == maxsendlist[iswap]) grow_list(iswap, sendnum[iswap]);
+      sendlist[iswap][sendnum[iswap]++] = i;
+    }
+  }
+
+  int smax = 0, rmax = 0;
+  for (int iswap = 0; iswap < nswap; ++iswap) {
+    const int nsend = sendnum[iswap];
+    if (nsend * size_border > maxsend) grow_send(nsend * size_border, 0);
+    const int n = ghost_velocity ? avec->pack_border_vel(nsend, sendlist[iswap], buf_send,
+                                                         pbc_flag[iswap], pbc[iswap])
+                                 : avec->pack_border(nsend, sendlist[iswap], buf_send,
+                                                     pbc_flag[iswap], pbc[iswap]);
+    int nrecv = 0;
+    double *buf = buf_send;
+    if (sendproc[iswap] != me) {
+      MPI_Sendrecv(&nsend, 1, MPI_INT, sendproc[iswap], 0, &nrecv, 1, MPI_INT, recvproc[iswap], 0,
+                   world, MPI_STATUS_IGNORE);
+      if (nrecv * size_border > maxrecv) grow_recv(nrecv * size_border);
+      MPI_Request request;
+      if (nrecv)
+        MPI_Irecv(buf_recv, nrecv * size_border, MPI_DOUBLE, recvproc[iswap], 0, world, &request);
+      if (n) MPI_Send(buf_send, n, MPI_DOUBLE, sendproc[iswap], 0, world);
+      if (nrecv) MPI_Wait(&request, MPI_STATUS_IGNORE);
+      buf = buf_recv;
+    } else {
+      nrecv = nsend;
+    }
+    const int first = atom->nlocal + atom->nghost;
+    if (ghost_velocity) avec->unpack_border_vel(nrecv, first, buf);
+    else avec->unpack_border(nrecv, first, buf);
+
+    smax = std::max(smax, nsend);
+    rmax = std::max(rmax, nrecv);
+    recvnum[iswap] = nrecv;
+    size_forward_recv[iswap] = nrecv * size_forward;
+    size_reverse_send[iswap] = nrecv * size_reverse;
+    size_reverse_recv[iswap] = nsend * size_reverse;
+    firstrecv[iswap] = first;
+    atom->nghost += nrecv;
+  }
+
+  int max = std::max(maxforward * smax, maxreverse * rmax);
+  if (max > maxsend) grow_send(max, 0);
+  max = std::max(maxforward * rmax, maxreverse * smax);
+  if (max > maxrecv) grow_recv(max);
+
+  if (map_style) atom->map_set();
+}

@@ -1,0 +1,63 @@
+// Host communicator that lets atom ownership follow a graph partition instead of the spatial brick.
+#ifndef FRACDEM_COMM_GRAPH_H
+#define FRACDEM_COMM_GRAPH_H
+
+#include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "comm.h"
+
+namespace LAMMPS_NS {
+
+// Drop-in replacement for the stock Comm, installed by the fracdem executable before the input is
+// read. Until graph ownership is switched on it is the stock Comm (every call forwards to the
+// base), so stock scripts run unchanged.
+//
+// In graph mode an atom stays on its rank between repartitions; exchange() only moves atoms whose
+// destination was set by the balancer (set_destinations) and drops atoms that left the box through
+// non-periodic boundaries, as the stock exchange does. Ghosts refine the paper's box exchange: the
+// box is cut into cells of edge >= the ghost cutoff, each rank's cover is the set of cells holding
+// its atoms (plus its stock brick's cells while an insertion fix must see every particle near the
+// brick it inserts into), and a rank receives every atom image in a cell adjacent to its cover.
+// Swaps are arranged as a ring (swap k sends to me+k, receives from me-k) times the periodic image
+// shifts, so the stock
+// forward/reverse communication of atoms, pairs, fixes, computes and dumps works unchanged.
+class CommGraph : public Comm {
+ public:
+  explicit CommGraph(class LAMMPS *);
+
+  void setup() override;
+  void exchange() override;
+  void borders() override;
+
+  // Switches graph ownership on (idempotent). Errors if the scene cannot support it.
+  void enable_graph_ownership(const char *caller);
+  bool graph_ownership() const { return graph_mode_; }
+  // Whether ghosts must also cover the stock brick (insertion fixes check overlaps there).
+  void set_cover_brick(bool on) { cover_brick_ = on; }
+  // Destination rank of each local atom for the next exchange (size nlocal); consumed by it.
+  void set_destinations(std::vector<int> dest) { pending_dest_ = std::move(dest); }
+
+  // Statistics of the last exchange/borders in graph mode.
+  int last_migrated() const { return last_migrated_; }
+  double migration_seconds() const { return migration_seconds_; } // cumulative, exchanges that moved atoms
+
+ private:
+  bool graph_mode_ = false;
+  std::vector<int> pending_dest_;
+  std::vector<std::array<int, 3>> shifts_;   // periodic image shifts, zero shift first
+  std::vector<std::pair<std::int64_t, int>> cell_owner_; // (cover cell, rank), sorted
+  bool cover_brick_ = false;
+  std::vector<std::vector<double>> out_buf_; // exchange buffers per destination
+  std::vector<double> in_buf_;
+  int last_migrated_ = 0;
+  double migration_seconds_ = 0;
+
+  void build_swaps();
+};
+
+} // namespace LAMMPS_NS
+
+#endif

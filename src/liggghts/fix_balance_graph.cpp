@@ -1,0 +1,455 @@
+// fix balance/graph: measures per-rank work from the host's neighbour list and contacts, and
+// repartitions the particle graph with METIS when max/avg exceeds the threshold.
+#include "fix_balance_graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "atom.h"
+#include "balance/graph_partition.h"
+#include "comm.h"
+#include "comm_graph.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_fem_body.h"
+#include "fix_wall_gran.h"
+#include "force.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "pair.h"
+#include "primitive_wall.h"
+#include "timer.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+
+// Sub-models by keyword: one table each, so the parser and the docs list the same names.
+struct GraphModelEntry {
+  const char *name;
+  FixBalanceGraph::GraphModel model;
+};
+const GraphModelEntry kGraphModels[] = {{"apriori", FixBalanceGraph::GraphModel::APriori},
+                                        {"aposteriori", FixBalanceGraph::GraphModel::APosteriori}};
+
+struct CostModelEntry {
+  const char *name;
+  FixBalanceGraph::CostModel model;
+};
+const CostModelEntry kCostModels[] = {{"counts", FixBalanceGraph::CostModel::Counts},
+                                      {"calibrated", FixBalanceGraph::CostModel::Calibrated},
+                                      {"timed", FixBalanceGraph::CostModel::Timed}};
+
+// Partitioners this build offers; Scotch is named so that asking for it gives a clear answer.
+struct PartitionerEntry {
+  const char *name;
+  bool available;
+  const char *why_not;
+};
+const PartitionerEntry kPartitioners[] = {
+    {"metis", true, ""},
+    {"scotch", false,
+     "this build has no Scotch (SCOTCH_graphRepart); use 'partitioner metis', which relabels the "
+     "new parts to keep most particles on their current rank"}};
+
+constexpr double kMetisImbalanceTolerance = 1.02;
+constexpr double kWeightResolution = 100.0; // integer vertex weight of a particle of average cost
+
+} // namespace
+
+FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  auto fail = [&](const std::string &msg) {
+    error->all(FLERR, ("fix balance/graph: " + msg).c_str());
+  };
+  if (narg < 5) fail("expected 'fix ID all balance/graph Nevery thresh [keyword value ...]'");
+  if (strcmp(arg[1], "all") != 0) fail("group must be 'all' (every particle is balanced)");
+  char *end = nullptr;
+  check_every_ = static_cast<int>(strtol(arg[3], &end, 10));
+  if (*end || check_every_ <= 0) fail(std::string("Nevery must be a positive integer, got '") + arg[3] + "'");
+  threshold_ = strtod(arg[4], &end);
+  if (*end || !(threshold_ >= 1.0))
+    fail(std::string("thresh must be a number >= 1.0 (max/avg work), got '") + arg[4] + "'");
+
+  for (int iarg = 5; iarg < narg; iarg += 2) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg) fail("keyword '" + key + "' needs a value");
+    const std::string val = arg[iarg + 1];
+    if (key == "model") {
+      bool found = false;
+      for (const auto &e : kGraphModels)
+        if (val == e.name) graph_model_ = e.model, found = true;
+      if (!found) fail("keyword 'model': expected apriori or aposteriori, got '" + val + "'");
+    } else if (key == "cost") {
+      bool found = false;
+      for (const auto &e : kCostModels)
+        if (val == e.name) cost_model_ = e.model, found = true;
+      if (!found) fail("keyword 'cost': expected counts, calibrated or timed, got '" + val + "'");
+    } else if (key == "partitioner") {
+      const PartitionerEntry *p = nullptr;
+      for (const auto &e : kPartitioners)
+        if (val == e.name) p = &e;
+      if (!p) fail("keyword 'partitioner': expected metis or scotch, got '" + val + "'");
+      if (!p->available) fail("keyword 'partitioner " + val + "': " + p->why_not);
+    } else if (key == "out") {
+      if (comm->me == 0) {
+        out_ = fopen(val.c_str(), "w");
+        if (!out_) fail("keyword 'out': cannot open '" + val + "' for writing");
+        fprintf(out_, "step,imbalance,repartitioned,predicted_imbalance,migrated,partition_seconds,"
+                      "migration_seconds_total,ghost_max_over_avg,ghosts_total,edge_cut,natoms,"
+                      "work_max,work_avg\n");
+      }
+    } else {
+      fail("unknown keyword '" + key + "' (expected model, cost, partitioner or out)");
+    }
+  }
+
+  scalar_flag = 1;
+  vector_flag = 1;
+  size_vector = 9;
+  global_freq = 1;
+  extscalar = 0;
+  extvector = 0;
+  force_reneighbor = 1;
+  next_reneighbor = -1;
+  restart_global = 1;
+
+  // Calibrated costs are measured once on rank 0 and shared, so every rank weighs alike.
+  costs_ = fracdem::balance::unit_costs();
+  if (cost_model_ == CostModel::Calibrated) {
+    double c[5] = {0, 0, 0, 0, 0};
+    if (comm->me == 0) {
+      const auto m = fracdem::balance::calibrate_costs();
+      c[0] = m.pair_check, c[1] = m.sphere_contact, c[2] = m.wall_contact, c[3] = m.facet_check,
+      c[4] = m.facet_contact;
+    }
+    MPI_Bcast(c, 5, MPI_DOUBLE, 0, world);
+    costs_.pair_check = c[0], costs_.sphere_contact = c[1], costs_.wall_contact = c[2];
+    costs_.facet_check = c[3], costs_.facet_contact = c[4];
+    if (comm->me == 0) {
+      char line[256];
+      snprintf(line, sizeof line,
+               "fix balance/graph: calibrated costs relative to a pair check: sphere contact %.2f, "
+               "wall contact %.2f, facet check %.2f, facet contact %.2f\n",
+               c[1], c[2], c[3], c[4]);
+      if (screen) fputs(line, screen);
+      if (logfile) fputs(line, logfile);
+    }
+  }
+}
+
+FixBalanceGraph::~FixBalanceGraph()
+{
+  if (out_) fclose(out_);
+}
+
+int FixBalanceGraph::setmask() { return PRE_EXCHANGE; }
+
+void FixBalanceGraph::init()
+{
+  comm_graph_ = dynamic_cast<CommGraph *>(comm);
+  if (!comm_graph_)
+    error->all(FLERR, "fix balance/graph: the communicator is the stock one (was 'clear' used?); "
+                      "graph ownership needs the fracdem executable's communicator");
+  if (!force->pair) error->all(FLERR, "fix balance/graph: needs a pair style (its neighbour list "
+                                      "is the particle graph)");
+  if (!atom->radius_flag)
+    error->all(FLERR, "fix balance/graph: needs per-atom radius (atom_style sphere or granular)");
+
+  primitive_walls_.clear();
+  fem_bodies_.clear();
+  bool inserting = false;
+  for (int i = 0; i < modify->nfix; ++i) {
+    Fix *f = modify->fix[i];
+    // Insertion fixes check overlaps against particles near the brick they insert into.
+    if (strncmp(f->style, "insert/", 7) == 0) inserting = true;
+    if (strncmp(f->style, "mesh/surface", 12) == 0) {
+      char msg[512];
+      snprintf(msg, sizeof msg,
+               "fix balance/graph: fix %s (%s) distributes its mesh by spatial sub-domain and "
+               "cannot follow graph ownership; use a rigid 'fix fem/body ... rigid yes' with "
+               "'motion' for meshes such as buckets, hoppers and plates",
+               f->id, f->style);
+      error->all(FLERR, msg);
+    }
+    if (auto *w = dynamic_cast<FixWallGran *>(f))
+      if (!w->is_mesh_wall() && w->primitiveWall()) primitive_walls_.push_back(w);
+    if (auto *b = dynamic_cast<FixFemBody *>(f)) fem_bodies_.push_back(b);
+  }
+  comm_graph_->set_cover_brick(inserting);
+}
+
+void FixBalanceGraph::setup_pre_exchange()
+{
+  next_reneighbor = (update->ntimestep / check_every_) * check_every_ + check_every_;
+}
+
+void FixBalanceGraph::pre_exchange()
+{
+  if (update->ntimestep != next_reneighbor) return;
+  next_reneighbor += check_every_;
+
+  LocalCosts lc;
+  measure(lc);
+  double sum = 0, max = 0;
+  MPI_Allreduce(&lc.total, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&lc.total, &max, 1, MPI_DOUBLE, MPI_MAX, world);
+  const double avg = sum / comm->nprocs;
+  imbalance_ = avg > 0 ? max / avg : 1.0;
+
+  double ghosts = atom->nghost, ghost_max = 0;
+  MPI_Allreduce(&ghosts, &ghosts_total_, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&ghosts, &ghost_max, 1, MPI_DOUBLE, MPI_MAX, world);
+  ghost_ratio_ = ghosts_total_ > 0 ? ghost_max * comm->nprocs / ghosts_total_ : 1.0;
+  checks_ += 1;
+
+  // B > tau: the paper's trigger; thresh = 1 + tau. Nothing to do on one rank.
+  const bool repartition_now = comm->nprocs > 1 && imbalance_ > threshold_;
+  double seconds = 0;
+  if (repartition_now) {
+    const double t0 = MPI_Wtime();
+    repartition(lc);
+    seconds = MPI_Wtime() - t0;
+    seconds_total_ += seconds;
+  }
+  if (out_) {
+    char row[512];
+    snprintf(row, sizeof row, "%ld,%.6g,%d,%.6g,%.0f,%.6g,%.6g,%.6g,%.0f,%.0f,%ld,%.6g,%.6g\n",
+             static_cast<long>(update->ntimestep), imbalance_, repartition_now ? 1 : 0,
+             imbalance_predicted_, repartition_now ? migrated_last_ : 0.0, seconds,
+             comm_graph_->migration_seconds(), ghost_ratio_, ghosts_total_, edge_cut_,
+             static_cast<long>(atom->natoms), max, avg);
+    fputs(row, out_);
+    fflush(out_);
+  }
+}
+
+void FixBalanceGraph::measure(LocalCosts &lc)
+{
+  const int nlocal = atom->nlocal;
+  lc.cost.assign(nlocal, 0.0);
+  lc.potential.assign(nlocal, 0);
+  lc.edges.clear();
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *tag = atom->tag;
+  const bool aposteriori = graph_model_ == GraphModel::APosteriori;
+  // With newton off a pair that straddles two ranks is in both ranks' lists; keep one copy.
+  const bool newton = force->newton_pair != 0;
+  const std::int64_t contact_edge_weight =
+      std::max<std::int64_t>(1, std::llround(costs_.sphere_contact / costs_.pair_check));
+
+  // Potential targets and sphere-sphere contacts from the host's own list: no second search.
+  NeighList *list = force->pair->list;
+  if (list && list->ilist) {
+    for (int ii = 0; ii < list->inum; ++ii) {
+      const int i = list->ilist[ii];
+      if (i >= nlocal) continue;
+      const int *jlist = list->firstneigh[i];
+      const int jnum = list->numneigh[i];
+      lc.potential[i] += jnum;
+      for (int jj = 0; jj < jnum; ++jj) {
+        const int j = jlist[jj] & NEIGHMASK;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double rs = radius[i] + radius[j];
+        const bool touching = dx * dx + dy * dy + dz * dz < rs * rs;
+        lc.cost[i] += costs_.pair_check + (touching ? costs_.sphere_contact : 0.0);
+        if (!newton && j >= nlocal && tag[i] > tag[j]) continue;
+        const std::int64_t w = (aposteriori && touching) ? 1 + contact_edge_weight : 1;
+        lc.edges.push_back(tag[i]);
+        lc.edges.push_back(tag[j]);
+        lc.edges.push_back(w);
+      }
+    }
+  }
+
+  // Primitive walls of fix wall/gran (their work runs outside Pair time).
+  for (FixWallGran *w : primitive_walls_) {
+    PrimitiveWall *pw = w->primitiveWall();
+    double delta[3];
+    for (int i = 0; i < nlocal; ++i)
+      if (pw->resolveContact(x[i], radius[i], delta) <= 0.0) lc.cost[i] += costs_.wall_contact;
+  }
+
+  // Facet checks and contacts of deformable or rigid FE bodies.
+  for (FixFemBody *b : fem_bodies_) {
+    const auto &checks = b->facet_checks();
+    const auto &contacts = b->facet_contacts();
+    if (static_cast<int>(checks.size()) != nlocal) continue; // no contact evaluated yet
+    for (int i = 0; i < nlocal; ++i)
+      lc.cost[i] += checks[i] * costs_.facet_check + contacts[i] * costs_.facet_contact;
+  }
+
+  lc.total = 0;
+  for (double c : lc.cost) lc.total += c;
+
+  // Measured time replaces the modelled total; the model only splits it among particles.
+  if (cost_model_ == CostModel::Timed) {
+    const double now = timer->array[TIME_PAIR] + timer->array[TIME_NEIGHBOR];
+    const double spent = now >= last_timed_ ? now - last_timed_ : now; // timers restart per run
+    last_timed_ = now;
+    if (lc.total > 0 && spent > 0) {
+      const double scale = spent / lc.total;
+      for (double &c : lc.cost) c *= scale;
+      lc.total = spent;
+    }
+  }
+}
+
+void FixBalanceGraph::repartition(const LocalCosts &lc)
+{
+  const int me = comm->me, nprocs = comm->nprocs;
+  const int nlocal = atom->nlocal;
+
+  // Vertex weights: potential targets (a priori) or the recorded cost (a posteriori), as
+  // integers with an average particle worth kWeightResolution.
+  double sum_cost = 0, n_all = 0, local_n = nlocal;
+  MPI_Allreduce(&lc.total, &sum_cost, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&local_n, &n_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double mean_cost = n_all > 0 && sum_cost > 0 ? sum_cost / n_all : 1.0;
+  std::vector<std::int64_t> verts(2 * nlocal);
+  for (int i = 0; i < nlocal; ++i) {
+    verts[2 * i] = atom->tag[i];
+    const double w = graph_model_ == GraphModel::APriori
+                         ? static_cast<double>(std::max<std::int64_t>(1, lc.potential[i]))
+                         : kWeightResolution * lc.cost[i] / mean_cost;
+    verts[2 * i + 1] = std::max<std::int64_t>(1, std::llround(w));
+  }
+
+  // Gather the graph on rank 0 (METIS is serial); vertices keep the order of their ranks.
+  int counts[2] = {2 * nlocal, static_cast<int>(lc.edges.size())};
+  std::vector<int> all_counts(2 * nprocs);
+  MPI_Gather(counts, 2, MPI_INT, all_counts.data(), 2, MPI_INT, 0, world);
+  std::vector<int> vcount(nprocs), vdisp(nprocs), ecount(nprocs), edisp(nprocs);
+  int vtotal = 0, etotal = 0;
+  for (int p = 0; p < nprocs; ++p) {
+    vcount[p] = all_counts[2 * p], vdisp[p] = vtotal, vtotal += vcount[p];
+    ecount[p] = all_counts[2 * p + 1], edisp[p] = etotal, etotal += ecount[p];
+  }
+  std::vector<std::int64_t> all_verts(me == 0 ? std::max(vtotal, 1) : 1);
+  std::vector<std::int64_t> all_edges(me == 0 ? std::max(etotal, 1) : 1);
+  MPI_Gatherv(verts.data(), counts[0], MPI_INT64_T, all_verts.data(), vcount.data(), vdisp.data(),
+              MPI_INT64_T, 0, world);
+  MPI_Gatherv(lc.edges.data(), counts[1], MPI_INT64_T, all_edges.data(), ecount.data(),
+              edisp.data(), MPI_INT64_T, 0, world);
+
+  std::vector<int> part_all;
+  double stats[2] = {1.0, 0.0}; // predicted imbalance, edge cut
+  int failed = 0;
+  std::string failure;
+  if (me == 0) {
+    const std::int64_t n = vtotal / 2;
+    std::unordered_map<std::int64_t, std::int64_t> vertex_of_tag;
+    vertex_of_tag.reserve(2 * n);
+    std::vector<std::int64_t> vwgt(n);
+    std::vector<int> old_owner(n);
+    for (int p = 0; p < nprocs; ++p)
+      for (int k = vdisp[p] / 2; k < (vdisp[p] + vcount[p]) / 2; ++k) old_owner[k] = p;
+    for (std::int64_t v = 0; v < n; ++v) {
+      vertex_of_tag[all_verts[2 * v]] = v;
+      vwgt[v] = all_verts[2 * v + 1];
+    }
+    std::vector<fracdem::balance::WeightedPair> pairs;
+    pairs.reserve(etotal / 3);
+    for (int e = 0; e + 2 < etotal; e += 3) {
+      auto a = vertex_of_tag.find(all_edges[e]), b = vertex_of_tag.find(all_edges[e + 1]);
+      if (a == vertex_of_tag.end() || b == vertex_of_tag.end()) continue;
+      pairs.push_back({a->second, b->second, all_edges[e + 2]});
+    }
+    try {
+      const fracdem::balance::Graph g = fracdem::balance::build_graph(n, vwgt, pairs);
+      std::vector<int> part = fracdem::balance::partition_kway(g, nprocs, kMetisImbalanceTolerance);
+      const std::vector<double> one(n, 1.0);
+      part = fracdem::balance::relabel_max_overlap(part, old_owner, one, nprocs);
+      const std::vector<double> load(vwgt.begin(), vwgt.end());
+      stats[0] = fracdem::balance::imbalance(fracdem::balance::part_loads(load, part, nprocs));
+      stats[1] = static_cast<double>(fracdem::balance::edge_cut(g, part));
+      part_all = std::move(part);
+    } catch (const std::exception &ex) {
+      failed = 1;
+      failure = ex.what();
+    }
+    if (failed) part_all = old_owner; // keep the current owners
+  }
+  MPI_Bcast(&failed, 1, MPI_INT, 0, world);
+  if (failed) {
+    if (me == 0) error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " +
+                                        failure).c_str());
+    return;
+  }
+  MPI_Bcast(stats, 2, MPI_DOUBLE, 0, world);
+
+  std::vector<int> dest(std::max(nlocal, 1));
+  std::vector<int> pcount(nprocs), pdisp(nprocs);
+  for (int p = 0; p < nprocs; ++p) pcount[p] = vcount[p] / 2, pdisp[p] = vdisp[p] / 2;
+  MPI_Scatterv(part_all.data(), pcount.data(), pdisp.data(), MPI_INT, dest.data(), nlocal, MPI_INT,
+               0, world);
+  dest.resize(nlocal);
+
+  double migrated = 0;
+  for (int i = 0; i < nlocal; ++i) migrated += dest[i] != me;
+  MPI_Allreduce(MPI_IN_PLACE, &migrated, 1, MPI_DOUBLE, MPI_SUM, world);
+
+  comm_graph_->enable_graph_ownership("fix balance/graph");
+  comm_graph_->set_destinations(std::move(dest));
+
+  imbalance_before_ = imbalance_;
+  imbalance_predicted_ = stats[0];
+  edge_cut_ = stats[1];
+  migrated_last_ = migrated;
+  repartitions_ += 1;
+
+  if (me == 0) {
+    char line[512];
+    snprintf(line, sizeof line,
+             "fix balance/graph: step %ld imbalance %.3f > %.3f: repartitioned (%s graph), "
+             "predicted %.3f, %.0f particles migrate, edge cut %.0f\n",
+             static_cast<long>(update->ntimestep), imbalance_, threshold_,
+             graph_model_ == GraphModel::APriori ? "a priori" : "a posteriori", stats[0], migrated,
+             stats[1]);
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
+}
+
+double FixBalanceGraph::compute_scalar() { return imbalance_; }
+
+double FixBalanceGraph::compute_vector(int n)
+{
+  switch (n) {
+  case 0: return imbalance_before_;
+  case 1: return repartitions_;
+  case 2: return migrated_last_;
+  case 3: return seconds_total_ + (comm_graph_ ? comm_graph_->migration_seconds() : 0.0);
+  case 4: return ghost_ratio_;
+  case 5: return edge_cut_;
+  case 6: return checks_;
+  case 7: return imbalance_predicted_;
+  case 8: return ghosts_total_;
+  default: return 0.0;
+  }
+}
+
+void FixBalanceGraph::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  const double state[6] = {imbalance_before_, repartitions_, migrated_last_,
+                           seconds_total_,    edge_cut_,     checks_};
+  const int size = sizeof(state);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(state, sizeof(state), 1, fp);
+}
+
+void FixBalanceGraph::restart(char *buf)
+{
+  double state[6];
+  memcpy(state, buf, sizeof(state));
+  imbalance_before_ = state[0], repartitions_ = state[1], migrated_last_ = state[2];
+  seconds_total_ = state[3], edge_cut_ = state[4], checks_ = state[5];
+}

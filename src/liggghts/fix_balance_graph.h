@@ -1,0 +1,63 @@
+// fix balance/graph: imbalance-triggered graph repartitioning driven by recorded per-particle costs.
+#ifndef FRACDEM_FIX_BALANCE_GRAPH_H
+#define FRACDEM_FIX_BALANCE_GRAPH_H
+
+#include <cstdio>
+#include <cstdint>
+#include <vector>
+
+#include "balance/cost_calibration.h"
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+class FixBalanceGraph : public Fix {
+ public:
+  FixBalanceGraph(class LAMMPS *, int, char **);
+  ~FixBalanceGraph() override;
+
+  int setmask() override;
+  void init() override;
+  void setup_pre_exchange() override;
+  void pre_exchange() override;
+  double compute_scalar() override;
+  double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+
+  enum class GraphModel { APriori, APosteriori };
+  enum class CostModel { Counts, Calibrated, Timed };
+
+ private:
+  // What one check measured on this rank, per local particle and in total.
+  struct LocalCosts {
+    std::vector<double> cost;                   // work model per particle
+    std::vector<std::int64_t> potential;        // potential targets per particle
+    std::vector<std::int64_t> edges;            // (tag_i, tag_j, weight) triples
+    double total = 0;
+  };
+
+  int check_every_;
+  double threshold_;
+  GraphModel graph_model_ = GraphModel::APosteriori;
+  CostModel cost_model_ = CostModel::Counts;
+  fracdem::balance::InteractionCosts costs_;
+  FILE *out_ = nullptr;
+  class CommGraph *comm_graph_ = nullptr;
+  std::vector<class FixWallGran *> primitive_walls_;
+  std::vector<class FixFemBody *> fem_bodies_;
+  double last_timed_ = 0; // pair + neighbour time at the previous check, for `cost timed`
+
+  // Outputs (see docs/fix_balance_graph.md).
+  double imbalance_ = 1.0, imbalance_before_ = 1.0, imbalance_predicted_ = 1.0;
+  double repartitions_ = 0, migrated_last_ = 0, seconds_total_ = 0;
+  double ghost_ratio_ = 1.0, ghosts_total_ = 0, edge_cut_ = 0, checks_ = 0;
+
+  void measure(LocalCosts &lc);
+  void repartition(const LocalCosts &lc);
+  void write_row(bool repartitioned, double partition_seconds);
+};
+
+} // namespace LAMMPS_NS
+
+#endif
