@@ -20,6 +20,9 @@ class FixBalanceGraph : public Fix {
   void init() override;
   void setup_pre_exchange() override;
   void pre_exchange() override;
+  void pre_neighbor() override;
+  void pre_force(int) override;
+  void post_force(int) override;
   double compute_scalar() override;
   double compute_vector(int) override;
   void write_restart(FILE *) override;
@@ -46,12 +49,16 @@ class FixBalanceGraph : public Fix {
   class CommGraph *comm_graph_ = nullptr;
   std::vector<class FixWallGran *> primitive_walls_;
   std::vector<class FixFemBody *> fem_bodies_;
-  double last_timed_ = 0; // pair + neighbour time at the previous check, for `cost timed`
+  // Thread CPU time of this rank's particle work (neighbour build, pair, and the post-force fixes
+  // defined before this one: walls, FE contact) since the last check; the measured work.
+  double cpu_work_ = 0, cpu_start_ = 0;
+  bool cpu_from_neighbor_ = false;
 
   // Outputs (see docs/fix_balance_graph.md).
   double imbalance_ = 1.0, imbalance_before_ = 1.0, imbalance_predicted_ = 1.0;
   double repartitions_ = 0, migrated_last_ = 0, seconds_total_ = 0;
   double ghost_ratio_ = 1.0, ghosts_total_ = 0, edge_cut_ = 0, checks_ = 0;
+  double measured_imbalance_ = 1.0;
 
   void measure(LocalCosts &lc);
   void repartition(const LocalCosts &lc);
