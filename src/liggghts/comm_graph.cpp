@@ -20,6 +20,7 @@ using namespace LAMMPS_NS;
 namespace {
 constexpr int kExchangeSlack = 1000; // doubles beyond the per-atom maximum, as the stock comm
 constexpr std::int64_t kMaxCells = std::int64_t(1) << 24; // cover grid size limit
+constexpr int kStencil = 2; // cover cells per ghost cutoff
 } // namespace
 
 CommGraph::CommGraph(LAMMPS *lmp) : Comm(lmp) {}
@@ -189,10 +190,11 @@ void CommGraph::borders()
   const int nlocal = atom->nlocal;
   double **x = atom->x;
 
-  // Cover of each rank: the cells (edge >= ghost cutoff) that hold its owned atoms, plus the
-  // cells of its brick when an insertion fix needs to see every particle near the brick. An atom
-  // image within the cutoff of an owned atom of rank q lies in a cell adjacent to one of q's
-  // cells, so sending each atom to the ranks of its 27 neighbouring cells is complete.
+  // Cover of each rank: the cells (edge >= half the ghost cutoff) that hold its owned atoms, plus
+  // the cells of its brick when an insertion fix needs to see every particle near the brick. An
+  // atom image within the cutoff of an owned atom of rank q is within the cutoff of the cell that
+  // holds that atom, at most kStencil cells away; sending each atom to the ranks of the cells it is
+  // that close to is complete, and over-covers by at most one cell diagonal.
   const double *prd = domain->prd, *boxlo = domain->boxlo;
   const int *periodic = domain->periodicity;
   const int dim = domain->dimension;
@@ -204,7 +206,8 @@ void CommGraph::borders()
     for (;;) {
       std::int64_t total = 1;
       for (int d = 0; d < dim; ++d) {
-        ncell[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>(prd[d] / (cutghost[d] * coarsen)));
+        ncell[d] = std::max<std::int64_t>(
+            1, static_cast<std::int64_t>(prd[d] * kStencil / (cutghost[d] * coarsen)));
         total *= ncell[d];
       }
       if (total <= kMaxCells) break;
@@ -262,30 +265,38 @@ void CommGraph::borders()
       if (shifts_[s][0] == sh[0] && shifts_[s][1] == sh[1] && shifts_[s][2] == sh[2]) return s;
     return -1;
   };
-  const int zr = dim == 3 ? 1 : 0;
+  const int zr = dim == 3 ? kStencil : 0;
+  const double cut2 = cutghost[0] * cutghost[0];
   std::vector<int> targets; // swap indices this atom goes to, deduplicated
   for (int i = 0; i < nlocal; ++i) {
     std::int64_t c[3] = {0, 0, 0};
     for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
     targets.clear();
     for (int dz = -zr; dz <= zr; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -kStencil; dy <= kStencil; ++dy)
+        for (int dx = -kStencil; dx <= kStencil; ++dx) {
           const int off[3] = {dx, dy, dz};
           std::int64_t n[3];
           int sh[3] = {0, 0, 0};
           bool valid = true;
-          for (int d = 0; d < 3; ++d) {
+          double dist2 = 0;
+          for (int d = 0; d < 3 && valid; ++d) {
             n[d] = c[d] + off[d];
+            if (d < dim) {
+              // Distance from the atom to the (unwrapped) neighbouring cell.
+              const double lo = boxlo[d] + n[d] * cell_size[d], hi = lo + cell_size[d];
+              const double gap = std::max({lo - x[i][d], 0.0, x[i][d] - hi});
+              dist2 += gap * gap;
+            }
             if (n[d] < 0 || n[d] >= ncell[d]) {
-              if (!periodic[d] || d >= dim) { valid = false; break; }
+              if (!periodic[d] || d >= dim || std::abs(off[d]) > ncell[d]) { valid = false; break; }
               // The neighbouring cell is across the boundary: its owners need the image of i
               // shifted into their side of the box.
               sh[d] = n[d] < 0 ? 1 : -1;
               n[d] = n[d] < 0 ? n[d] + ncell[d] : n[d] - ncell[d];
             }
           }
-          if (!valid) continue;
+          if (!valid || dist2 > cut2) continue;
           const int s = shift_index(sh);
           const std::int64_t id = cell_id(n[0], n[1], n[2]);
           auto range = std::equal_range(cell_owner_.begin(), cell_owner_.end(),
