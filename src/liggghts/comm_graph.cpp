@@ -21,6 +21,7 @@ namespace {
 constexpr int kExchangeSlack = 1000; // doubles beyond the per-atom maximum, as the stock comm
 constexpr std::int64_t kMaxCells = std::int64_t(1) << 24; // cover grid size limit
 constexpr int kStencil = 2; // cover cells per ghost cutoff
+constexpr std::int64_t kMaxDenseCells = std::int64_t(1) << 22; // dense cell index up to 32 MB
 } // namespace
 
 CommGraph::CommGraph(LAMMPS *lmp) : Comm(lmp) {}
@@ -257,6 +258,14 @@ void CommGraph::borders()
   for (int p = 0; p < nprocs; ++p)
     for (int k = displs[p]; k < displs[p] + counts[p]; ++k) cell_owner_.push_back({all_cells[k], p});
   std::sort(cell_owner_.begin(), cell_owner_.end());
+  // Constant-time lookup of a cell's owners where a dense index fits (the common case).
+  const std::int64_t ncells_total = ncell[0] * ncell[1] * ncell[2];
+  const bool dense = ncells_total <= kMaxDenseCells;
+  if (dense) {
+    cell_start_.assign(ncells_total + 1, 0);
+    for (const auto &co : cell_owner_) ++cell_start_[co.first + 1];
+    for (std::int64_t k = 0; k < ncells_total; ++k) cell_start_[k + 1] += cell_start_[k];
+  }
 
   const int nshift = static_cast<int>(shifts_.size());
   for (int iswap = 0; iswap < nswap; ++iswap) sendnum[iswap] = 0;
@@ -265,51 +274,85 @@ void CommGraph::borders()
       if (shifts_[s][0] == sh[0] && shifts_[s][1] == sh[1] && shifts_[s][2] == sh[2]) return s;
     return -1;
   };
-  const int zr = dim == 3 ? kStencil : 0;
+  auto owners = [&](std::int64_t id) {
+    if (dense)
+      return std::make_pair(cell_owner_.begin() + cell_start_[id], cell_owner_.begin() + cell_start_[id + 1]);
+    return std::equal_range(cell_owner_.begin(), cell_owner_.end(), std::pair<std::int64_t, int>{id, -1},
+                            [](const auto &a, const auto &b) { return a.first < b.first; });
+  };
   const double cut2 = cutghost[0] * cutghost[0];
-  std::vector<int> targets; // swap indices this atom goes to, deduplicated
-  for (int i = 0; i < nlocal; ++i) {
-    std::int64_t c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
-    targets.clear();
+  const int zr = dim == 3 ? kStencil : 0;
+
+  // Per cell of mine, once: the nearby cells (within the cutoff of the cell) whose owners need
+  // images from it. Interior cells get none, so their atoms cost nothing below.
+  cand_start_.assign(my_cells.size() + 1, 0);
+  cands_.clear();
+  for (size_t m = 0; m < my_cells.size(); ++m) {
+    const std::int64_t id0 = my_cells[m];
+    const std::int64_t c[3] = {id0 % ncell[0], (id0 / ncell[0]) % ncell[1], id0 / (ncell[0] * ncell[1])};
     for (int dz = -zr; dz <= zr; ++dz)
       for (int dy = -kStencil; dy <= kStencil; ++dy)
         for (int dx = -kStencil; dx <= kStencil; ++dx) {
           const int off[3] = {dx, dy, dz};
+          Candidate cand;
           std::int64_t n[3];
           int sh[3] = {0, 0, 0};
           bool valid = true;
-          double dist2 = 0;
+          double gap2 = 0;
           for (int d = 0; d < 3 && valid; ++d) {
             n[d] = c[d] + off[d];
+            cand.lo[d] = boxlo[d] + n[d] * cell_size[d];
+            cand.hi[d] = cand.lo[d] + cell_size[d];
             if (d < dim) {
-              // Distance from the atom to the (unwrapped) neighbouring cell.
-              const double lo = boxlo[d] + n[d] * cell_size[d], hi = lo + cell_size[d];
-              const double gap = std::max({lo - x[i][d], 0.0, x[i][d] - hi});
-              dist2 += gap * gap;
+              const double gap = std::max(0.0, (std::abs(off[d]) - 1) * cell_size[d]);
+              gap2 += gap * gap;
             }
             if (n[d] < 0 || n[d] >= ncell[d]) {
               if (!periodic[d] || d >= dim || std::abs(off[d]) > ncell[d]) { valid = false; break; }
-              // The neighbouring cell is across the boundary: its owners need the image of i
-              // shifted into their side of the box.
+              // Across the boundary: the owners there need the image of the atom shifted into
+              // their side of the box.
               sh[d] = n[d] < 0 ? 1 : -1;
               n[d] = n[d] < 0 ? n[d] + ncell[d] : n[d] - ncell[d];
             }
           }
-          if (!valid || dist2 > cut2) continue;
-          const int s = shift_index(sh);
-          const std::int64_t id = cell_id(n[0], n[1], n[2]);
-          auto range = std::equal_range(cell_owner_.begin(), cell_owner_.end(),
-                                        std::pair<std::int64_t, int>{id, -1},
-                                        [](const auto &a, const auto &b) { return a.first < b.first; });
-          for (auto it = range.first; it != range.second; ++it) {
-            const int q = it->second;
-            if (q == me && s == 0) continue; // an owned atom is no ghost of itself
-            const int iswap = ((q - me + nprocs) % nprocs) * nshift + s;
-            if (std::find(targets.begin(), targets.end(), iswap) == targets.end())
-              targets.push_back(iswap);
-          }
+          if (!valid || gap2 > cut2) continue;
+          cand.shift = shift_index(sh);
+          const auto range = owners(cell_id(n[0], n[1], n[2]));
+          bool useful = false;
+          for (auto it = range.first; it != range.second; ++it)
+            if (!(it->second == me && cand.shift == 0)) useful = true;
+          if (!useful) continue;
+          cand.first = static_cast<std::int64_t>(range.first - cell_owner_.begin());
+          cand.last = static_cast<std::int64_t>(range.second - cell_owner_.begin());
+          cands_.push_back(cand);
         }
+    cand_start_[m + 1] = static_cast<std::int64_t>(cands_.size());
+  }
+
+  std::vector<int> targets; // swap indices this atom goes to, deduplicated
+  for (int i = 0; i < nlocal; ++i) {
+    std::int64_t c[3] = {0, 0, 0};
+    for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
+    const std::int64_t id = cell_id(c[0], c[1], c[2]);
+    const size_t m = std::lower_bound(my_cells.begin(), my_cells.end(), id) - my_cells.begin();
+    if (cand_start_[m] == cand_start_[m + 1]) continue; // interior: nobody needs it
+    targets.clear();
+    for (std::int64_t k = cand_start_[m]; k < cand_start_[m + 1]; ++k) {
+      const Candidate &cd = cands_[k];
+      double dist2 = 0;
+      for (int d = 0; d < dim; ++d) {
+        const double gap = std::max({cd.lo[d] - x[i][d], 0.0, x[i][d] - cd.hi[d]});
+        dist2 += gap * gap;
+      }
+      if (dist2 > cut2) continue;
+      for (std::int64_t o = cd.first; o < cd.last; ++o) {
+        const int q = cell_owner_[o].second;
+        if (q == me && cd.shift == 0) continue; // an owned atom is no ghost of itself
+        const int iswap = ((q - me + nprocs) % nprocs) * nshift + cd.shift;
+        if (std::find(targets.begin(), targets.end(), iswap) == targets.end())
+          targets.push_back(iswap);
+      }
+    }
     for (int iswap : targets) {
       if (sendnum[iswap] == maxsendlist[iswap]) grow_list(iswap, sendnum[iswap]);
       sendlist[iswap][sendnum[iswap]++] = i;

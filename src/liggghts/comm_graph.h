@@ -49,6 +49,16 @@ class CommGraph : public Comm {
   std::vector<int> pending_dest_;
   std::vector<std::array<int, 3>> shifts_;   // periodic image shifts, zero shift first
   std::vector<std::pair<std::int64_t, int>> cell_owner_; // (cover cell, rank), sorted
+  std::vector<std::int64_t> cell_start_;                 // dense CSR index into cell_owner_
+  // A cell near one of mine whose owners need images from my cell: its unwrapped bounds, the
+  // image shift and its range in cell_owner_.
+  struct Candidate {
+    double lo[3], hi[3];
+    int shift;
+    std::int64_t first, last;
+  };
+  std::vector<Candidate> cands_;
+  std::vector<std::int64_t> cand_start_; // per cell of mine (sorted my_cells order)
   bool cover_brick_ = false;
   std::vector<std::vector<double>> out_buf_; // exchange buffers per destination
   std::vector<double> in_buf_;

@@ -110,7 +110,10 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
         if (!out_) fail("keyword 'out': cannot open '" + val + "' for writing");
         fprintf(out_, "step,imbalance,repartitioned,predicted_imbalance,migrated,partition_seconds,"
                       "migration_seconds_total,ghost_max_over_avg,ghosts_total,edge_cut,natoms,"
-                      "work_max,work_avg,measured_imbalance,cpu_work_max,cpu_work_avg\n");
+                      "work_max,work_avg,measured_imbalance,cpu_work_max,cpu_work_avg");
+        // Per-rank CPU work of each interval, for per-rank work plots.
+        for (int p = 0; p < comm->nprocs; ++p) fprintf(out_, ",cpu_rank%d", p);
+        fputc('\n', out_);
       }
     } else {
       fail("unknown keyword '" + key + "' (expected model, cost, partitioner or out)");
@@ -130,21 +133,23 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   // Calibrated costs are measured once on rank 0 and shared, so every rank weighs alike.
   costs_ = fracdem::balance::unit_costs();
   if (cost_model_ == CostModel::Calibrated) {
-    double c[5] = {0, 0, 0, 0, 0};
+    double c[7] = {0, 0, 0, 0, 0, 0, 0};
     if (comm->me == 0) {
       const auto m = fracdem::balance::calibrate_costs();
       c[0] = m.pair_check, c[1] = m.sphere_contact, c[2] = m.wall_contact, c[3] = m.facet_check,
-      c[4] = m.facet_contact;
+      c[4] = m.facet_contact, c[5] = m.particle, c[6] = m.wall_check;
     }
-    MPI_Bcast(c, 5, MPI_DOUBLE, 0, world);
+    MPI_Bcast(c, 7, MPI_DOUBLE, 0, world);
     costs_.pair_check = c[0], costs_.sphere_contact = c[1], costs_.wall_contact = c[2];
-    costs_.facet_check = c[3], costs_.facet_contact = c[4];
+    costs_.facet_check = c[3], costs_.facet_contact = c[4], costs_.particle = c[5];
+    costs_.wall_check = c[6];
     if (comm->me == 0) {
-      char line[256];
+      char line[400];
       snprintf(line, sizeof line,
-               "fix balance/graph: calibrated costs relative to a pair check: sphere contact %.2f, "
-               "wall contact %.2f, facet check %.2f, facet contact %.2f\n",
-               c[1], c[2], c[3], c[4]);
+               "fix balance/graph: calibrated costs relative to a pair check: particle %.2f, "
+               "sphere contact %.2f, wall check %.2f, wall contact %.2f, facet check %.2f, "
+               "facet contact %.2f\n",
+               c[5], c[1], c[6], c[2], c[3], c[4]);
       if (screen) fputs(line, screen);
       if (logfile) fputs(line, logfile);
     }
@@ -233,6 +238,8 @@ void FixBalanceGraph::pre_exchange()
   MPI_Allreduce(&cpu_work_, &cpu_sum, 1, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&cpu_work_, &cpu_max, 1, MPI_DOUBLE, MPI_MAX, world);
   measured_imbalance_ = cpu_sum > 0 ? cpu_max * comm->nprocs / cpu_sum : 1.0;
+  std::vector<double> cpu_per_rank(comm->me == 0 ? comm->nprocs : 1);
+  MPI_Gather(&cpu_work_, 1, MPI_DOUBLE, cpu_per_rank.data(), 1, MPI_DOUBLE, 0, world);
   cpu_work_ = 0;
 
   double ghosts = atom->nghost, ghost_max = 0;
@@ -259,7 +266,10 @@ void FixBalanceGraph::pre_exchange()
              comm_graph_->migration_seconds(), ghost_ratio_, ghosts_total_, edge_cut_,
              static_cast<long>(atom->natoms), max, avg, measured_imbalance_, cpu_max,
              cpu_sum / comm->nprocs);
+    row[strlen(row) - 1] = '\0'; // per-rank columns follow
     fputs(row, out_);
+    for (double w : cpu_per_rank) fprintf(out_, ",%.6g", w);
+    fputc('\n', out_);
     fflush(out_);
   }
 }
@@ -303,12 +313,18 @@ void FixBalanceGraph::measure(LocalCosts &lc)
     }
   }
 
-  // Primitive walls of fix wall/gran (their work runs outside Pair time).
+  // Every particle costs something on its own (list traversal, binning, integration).
+  for (int i = 0; i < nlocal; ++i) lc.cost[i] += costs_.particle;
+
+  // Primitive walls of fix wall/gran (their work runs outside Pair time): a gap test for every
+  // particle, and the contact law for those touching.
   for (FixWallGran *w : primitive_walls_) {
     PrimitiveWall *pw = w->primitiveWall();
     double delta[3];
-    for (int i = 0; i < nlocal; ++i)
+    for (int i = 0; i < nlocal; ++i) {
+      lc.cost[i] += costs_.wall_check;
       if (pw->resolveContact(x[i], radius[i], delta) <= 0.0) lc.cost[i] += costs_.wall_contact;
+    }
   }
 
   // Facet checks and contacts of deformable or rigid FE bodies.

@@ -17,92 +17,149 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Runs `body(k)` for k = 0.. until `budget` seconds passed; returns seconds per call.
-// A sink defeats dead-code elimination.
-template <typename Body> double time_per_call(Body body, double budget, double& sink)
+// Synthetic particles with a neighbour list shaped like a host list (indirect loads, ~8
+// neighbours each), so that a pair check costs what it costs inside a pair style.
+struct Scene {
+  int n = 4096, per = 8;
+  std::vector<double> x, v, r;
+  std::vector<int> nbr;
+  double shear[3] = {1e-4, 0, 0};
+};
+
+Scene make_scene()
+{
+  Scene s;
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  s.x.resize(3 * s.n);
+  s.v.resize(3 * s.n);
+  s.r.resize(s.n);
+  for (int i = 0; i < s.n; ++i) {
+    for (int d = 0; d < 3; ++d) s.x[3 * i + d] = 16.0 * u(rng), s.v[3 * i + d] = u(rng) - 0.5;
+    s.r[i] = 0.5;
+  }
+  s.nbr.resize(static_cast<size_t>(s.n) * s.per);
+  for (auto& j : s.nbr) j = static_cast<int>(rng() % s.n);
+  return s;
+}
+
+// Out of line, as a pair style's contact branch is: the compiler cannot fold it into the sweep.
+__attribute__((noinline)) double contact_law(const ContactMaterial& mat, const double* xi,
+                                             const double* xj, double radsum, double* shear)
+{
+  ContactInput in{};
+  double d[3], r2 = 0;
+  for (int k = 0; k < 3; ++k) d[k] = xi[k] - xj[k], r2 += d[k] * d[k];
+  const double dist = std::sqrt(r2) + 1e-12;
+  for (int k = 0; k < 3; ++k) in.n[k] = d[k] / dist;
+  in.delta = std::fabs(radsum - dist) * 1e-3 + 1e-6;
+  in.radius = 0.5;
+  in.mass = 1.0;
+  in.v_rel[0] = 0.1;
+  in.v_rel[2] = -0.2;
+  in.dt = 1e-5;
+  return particle_surface_force(mat, in, shear).fn;
+}
+
+// Seconds per item of `sweep(items)`, repeated for `budget` seconds.
+template <typename Sweep> double seconds_per_item(Sweep sweep, long items, double budget)
 {
   const auto start = Clock::now();
-  long calls = 0;
+  long done = 0;
   double elapsed = 0;
-  while (elapsed < budget) {
-    for (int k = 0; k < 4096; ++k) sink += body(static_cast<int>(calls + k));
-    calls += 4096;
+  while (elapsed < budget || done == 0) {
+    sweep();
+    done += items;
     elapsed = std::chrono::duration<double>(Clock::now() - start).count();
   }
-  return elapsed / static_cast<double>(calls);
+  return elapsed / static_cast<double>(done);
 }
 
 } // namespace
 
 InteractionCosts calibrate_costs(double seconds_budget)
 {
-  const int n = 1024; // working set that stays in cache, as a neighbour list sweep mostly does
-  std::mt19937 rng(12345);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<double> xyz(3 * n), rad(n);
-  for (int i = 0; i < n; ++i) {
-    for (int d = 0; d < 3; ++d) xyz[3 * i + d] = 4.0 * u(rng);
-    rad[i] = 0.4 + 0.2 * u(rng);
-  }
+  Scene s = make_scene();
   const ContactMaterial mat =
       mix_materials(5e6, 0.3, 5e6, 0.3, 0.5, 0.5, 1.0, NormalModel::Hertz, true);
-  const double budget = seconds_budget / 5.0;
-  double sink = 0;
+  const double budget = seconds_budget / 7.0;
+  volatile double sink = 0;
+  const long pairs = static_cast<long>(s.n) * s.per;
 
-  const double t_check = time_per_call(
-      [&](int k) {
-        const int i = k % n, j = (k * 7 + 1) % n;
-        const double dx = xyz[3 * i] - xyz[3 * j], dy = xyz[3 * i + 1] - xyz[3 * j + 1],
-                     dz = xyz[3 * i + 2] - xyz[3 * j + 2];
-        const double rs = rad[i] + rad[j];
-        return (dx * dx + dy * dy + dz * dz < rs * rs) ? 1.0 : 0.0;
-      },
-      budget, sink);
-
-  auto law = [&](int k, double delta) {
-    ContactInput in{};
-    in.n[0] = 0.6;
-    in.n[1] = 0.0;
-    in.n[2] = 0.8;
-    in.delta = delta;
-    in.radius = rad[k % n];
-    in.mass = 1.0;
-    in.v_rel[0] = 0.1;
-    in.v_rel[2] = -0.2;
-    in.dt = 1e-5;
-    double shear[3] = {1e-4, 0.0, 0.0};
-    return particle_surface_force(mat, in, shear).fn;
+  // Pair sweep with a contact threshold no pair reaches (checks only; not 0, which the compiler
+  // proves unreachable and deletes the loop), and one every pair
+  // reaches (check + law): the difference is the contact's cost.
+  auto pair_sweep = [&](double radsum) {
+    double acc = 0;
+    for (int i = 0; i < s.n; ++i) {
+      const double* xi = &s.x[3 * i];
+      for (int k = 0; k < s.per; ++k) {
+        const int j = s.nbr[static_cast<size_t>(i) * s.per + k];
+        const double* xj = &s.x[3 * j];
+        const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+        if (dx * dx + dy * dy + dz * dz < radsum * radsum) acc += contact_law(mat, xi, xj, radsum, s.shear);
+      }
+    }
+    sink = sink + acc;
   };
-  const double t_contact = time_per_call(
-      [&](int k) { return law(k, 0.01 + 1e-6 * (k & 15)); }, budget, sink);
+  const double t_check = seconds_per_item([&] { pair_sweep(1e-9); }, pairs, budget);
+  const double t_contact_all = seconds_per_item([&] { pair_sweep(1e9); }, pairs, budget);
 
-  const double t_wall = time_per_call(
-      [&](int k) {
-        const int i = k % n;
-        const double gap = xyz[3 * i + 2] - 0.5 - rad[i]; // plane z = 0.5
-        return law(k, std::fabs(gap) + 1e-3);
+  // Per particle: the integrator's update, as the fixed per-particle part.
+  const double t_particle = seconds_per_item(
+      [&] {
+        for (int i = 0; i < s.n; ++i)
+          for (int d = 0; d < 3; ++d) s.x[3 * i + d] += 1e-9 * s.v[3 * i + d];
+        sink = sink + s.x[7];
       },
-      budget, sink);
+      s.n, budget);
 
-  const double a[3] = {0, 0, 0}, b[3] = {4, 0, 0}, c[3] = {0, 4, 0.5};
-  const double t_facet_check = time_per_call(
-      [&](int k) { return closest_point_triangle(&xyz[3 * (k % n)], a, b, c).dist2; }, budget,
-      sink);
-  const double t_facet_contact = time_per_call(
-      [&](int k) {
-        const ClosestPoint cp = closest_point_triangle(&xyz[3 * (k % n)], a, b, c);
-        return law(k, 1e-3 + 1e-3 * cp.dist2);
+  // Primitive wall (plane z = c): gap test for all, law for all.
+  auto wall_sweep = [&](double plane) {
+    double acc = 0;
+    for (int i = 0; i < s.n; ++i) {
+      const double* xi = &s.x[3 * i];
+      const double gap = xi[2] - plane - s.r[i];
+      if (gap < 0) {
+        const double xw[3] = {xi[0], xi[1], plane};
+        acc += contact_law(mat, xi, xw, s.r[i], s.shear);
+      }
+    }
+    sink = sink + acc;
+  };
+  const double t_wall_check = seconds_per_item([&] { wall_sweep(-1e9); }, s.n, budget); // no particle below
+  const double t_wall_all = seconds_per_item([&] { wall_sweep(1e9); }, s.n, budget);
+
+  // Facet: closest point on a triangle, then the law.
+  const double a[3] = {0, 0, 0}, b[3] = {16, 0, 0}, c[3] = {0, 16, 0.5};
+  const double t_facet_check = seconds_per_item(
+      [&] {
+        double acc = 0;
+        for (int i = 0; i < s.n; ++i) acc += closest_point_triangle(&s.x[3 * i], a, b, c).dist2;
+        sink = sink + acc;
       },
-      budget, sink);
+      s.n, budget);
+  const double t_facet_all = seconds_per_item(
+      [&] {
+        double acc = 0;
+        for (int i = 0; i < s.n; ++i) {
+          const ClosestPoint cp = closest_point_triangle(&s.x[3 * i], a, b, c);
+          acc += contact_law(mat, &s.x[3 * i], cp.p, 0.5, s.shear);
+        }
+        sink = sink + acc;
+      },
+      s.n, budget);
 
   InteractionCosts costs;
-  const double base = t_check > 0 ? t_check : 1e-9;
+  const double base = t_check > 1e-12 ? t_check : 1e-12;
+  auto rel = [&](double t) { return std::max(t / base, 0.05); };
   costs.pair_check = 1.0;
-  costs.sphere_contact = t_contact / base;
-  costs.wall_contact = t_wall / base;
-  costs.facet_check = t_facet_check / base;
-  costs.facet_contact = t_facet_contact / base;
-  if (sink == 12345.678) costs.pair_check += 0; // keeps `sink` observable
+  costs.sphere_contact = rel(t_contact_all - t_check);
+  costs.particle = rel(t_particle);
+  costs.wall_check = rel(t_wall_check);
+  costs.wall_contact = rel(t_wall_all - t_wall_check);
+  costs.facet_check = rel(t_facet_check);
+  costs.facet_contact = rel(t_facet_all - t_facet_check);
   return costs;
 }
 

@@ -1,0 +1,137 @@
+"""Load-balance comparison on the settling bed: stock z-slabs vs fix balance/graph (a priori,
+a posteriori) in fracdem, and LAMMPS (`lmp`) z-slabs, fix balance shift, rcb weight neigh/time.
+
+  python3 bench/balance_compare.py [--ranks 1 2 4 6] [--steps 4000] [--reps 3] [--out bench/results]
+
+Writes balance_runs.csv (one row per run), balance_summary.md (tables in the form of the paper's
+Tables 1-3), balance_rank_work.png (per-rank CPU work at the largest rank count, Fig. 4 form) and
+balance_history.png (B over the run). Wall-clock figures are meaningful only where ranks <= cores;
+the work-model figures (per-rank thread CPU time measured by fix balance/graph) hold at any count.
+"""
+import argparse
+import csv
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(ROOT, "python"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "integration"))
+
+import harness  # noqa: E402
+from fracdem import balance  # noqa: E402
+
+FRACDEM_METHODS = {  # name -> variables of in.settle_fracdem
+    "slabs (fracdem, measured)": dict(thresh="1e30", model="aposteriori"),
+    "graph a priori": dict(thresh=1.05, model="apriori"),
+    "graph a posteriori": dict(thresh=1.05, model="aposteriori"),
+}
+LAMMPS_METHODS = {  # name -> balance variable of in.settle_lammps
+    "LAMMPS slabs": "none",
+    "LAMMPS shift": "shift",
+    "LAMMPS rcb neigh": "rcb_neigh",
+    "LAMMPS rcb time": "rcb_time",
+}
+
+
+def run_one(exe, script, np_, variables):
+    wd = tempfile.mkdtemp(prefix="bench_balance_")
+    shutil.copy(os.path.join(HERE, "inputs", script), wd)
+    text = harness.run(exe, script, np_=np_, workdir=wd, variables=variables, timeout=1800)
+    stats = balance.run_stats(text)
+    csv_path = os.path.join(wd, "balance.csv")
+    df = balance.read_balance_csv(csv_path) if os.path.exists(csv_path) else None
+    return stats, df
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fracdem"))
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 6])
+    ap.add_argument("--steps", type=int, default=4000)
+    ap.add_argument("--reps", type=int, default=3, help="repetitions where ranks <= cores")
+    ap.add_argument("--out", default=os.path.join(HERE, "results"))
+    ap.add_argument("--no-lammps", action="store_true")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    lmp = None if args.no_lammps else shutil.which("lmp")
+    cores = os.cpu_count() or 1
+
+    rows, rank_work, history = [], {}, {}
+    for np_ in args.ranks:
+        reps = args.reps if np_ <= cores else 1
+        for name, var in FRACDEM_METHODS.items():
+            loops, last = [], None
+            for _ in range(reps):
+                stats, df = run_one(args.exe, "in.settle_fracdem", np_, dict(steps=args.steps, **var))
+                loops.append(stats["loop_s"])
+                last = (stats, df)
+            stats, df = last
+            s = balance.summarize_balance(df, np_, statistics.median(loops))
+            row = dict(method=name, ranks=np_, reps=reps, loop_s=statistics.median(loops),
+                       measured_B=s["measured_B"], model_B=s["model_B"], speedup=s["speedup"],
+                       ghosts_ave=stats.get("nghost_ave"), ghosts_max=stats.get("nghost_max"),
+                       neighs_max_over_ave=stats.get("neighs_max", 0) / max(stats.get("neighs_ave", 1), 1e-30),
+                       repartitions=s["repartitions"], migrated=s["migrated"],
+                       partition_share=s.get("partition_share"))
+            rows.append(row)
+            print(row, flush=True)
+            if np_ == max(args.ranks):
+                rank_work[name] = s.get("work_per_rank", [])
+                history[name] = (df["step"].tolist(), df["measured_imbalance"].tolist())
+        if lmp:
+            for name, bal in LAMMPS_METHODS.items():
+                loops, last = [], None
+                for _ in range(reps):
+                    stats, _ = run_one(lmp, "in.settle_lammps", np_, dict(steps=args.steps, balance=bal))
+                    loops.append(stats["loop_s"])
+                    last = stats
+                stats = last
+                pair_b = stats["pair_max_s"] / stats["pair_avg_s"] if stats.get("pair_avg_s") else 1.0
+                row = dict(method=name, ranks=np_, reps=reps, loop_s=statistics.median(loops),
+                           measured_B=None, model_B=None, pair_time_B=pair_b,
+                           ghosts_ave=stats.get("nghost_ave"), ghosts_max=stats.get("nghost_max"),
+                           neighs_max_over_ave=stats.get("neighs_max", 0) / max(stats.get("neighs_ave", 1), 1e-30))
+                rows.append(row)
+                print(row, flush=True)
+
+    cols = ["method", "ranks", "reps", "loop_s", "measured_B", "model_B", "pair_time_B", "speedup",
+            "neighs_max_over_ave", "ghosts_ave", "ghosts_max", "repartitions", "migrated",
+            "partition_share"]
+    with open(os.path.join(args.out, "balance_runs.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols)
+        w.writeheader()
+        for r in rows:
+            w.writerow({c: r.get(c) for c in cols})
+
+    # Speedups relative to 1 rank of the same code, from the median loop times.
+    base = {r["method"]: r["loop_s"] for r in rows if r["ranks"] == 1}
+    for r in rows:
+        if r["method"] in base and r["ranks"] <= cores:
+            r["wall_speedup"] = base[r["method"]] / r["loop_s"]
+
+    fmt = lambda rs, c: balance.markdown_table(rs, c)  # noqa: E731
+    with open(os.path.join(args.out, "balance_summary.md"), "w") as f:
+        f.write(f"Settling bed, {args.steps} steps; machine with {cores} cores "
+                f"(wall-clock speedups only where ranks <= cores).\n\n")
+        f.write("Table 1: imbalance and speedup\n\n")
+        f.write(fmt(rows, ["method", "ranks", "measured_B", "model_B", "pair_time_B",
+                           "neighs_max_over_ave", "speedup", "wall_speedup", "loop_s"]) + "\n\n")
+        f.write("Table 2: ghosts per rank\n\n")
+        f.write(fmt(rows, ["method", "ranks", "ghosts_ave", "ghosts_max"]) + "\n\n")
+        f.write("Table 3: repartitioning cost\n\n")
+        graph_rows = [r for r in rows if r["method"].startswith("graph")]
+        f.write(fmt(graph_rows, ["method", "ranks", "repartitions", "migrated", "partition_share"]) + "\n")
+    if rank_work:
+        balance.plot_rank_work(rank_work, out=os.path.join(args.out, "balance_rank_work.png"),
+                               title=f"Per-rank CPU work, settling bed, {max(args.ranks)} ranks")
+        balance.plot_imbalance_history(history, out=os.path.join(args.out, "balance_history.png"),
+                                       title=f"Measured B, settling bed, {max(args.ranks)} ranks")
+    print(open(os.path.join(args.out, "balance_summary.md")).read())
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,166 @@
+// Unit tests of the load-balance kernels: graph build, imbalance, edge cut, METIS partition,
+// migration-minimising relabelling (against brute force) and binned vs brute-force pair search.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+#include "balance/cost_calibration.h"
+#include "balance/graph_partition.h"
+
+using namespace fracdem::balance;
+
+namespace {
+
+// nx x ny grid graph, unit weights.
+Graph grid_graph(int nx, int ny)
+{
+  std::vector<WeightedPair> pairs;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int v = j * nx + i;
+      if (i + 1 < nx) pairs.push_back({v, v + 1, 1});
+      if (j + 1 < ny) pairs.push_back({v, v + nx, 1});
+    }
+  return build_graph(int64_t(nx) * ny, std::vector<int64_t>(nx * ny, 1), pairs);
+}
+
+} // namespace
+
+TEST(BalanceKernels, BuildGraphMergesSymmetrisesAndDropsSelfLoops)
+{
+  const Graph g = build_graph(3, {1, 0, 5}, {{0, 1, 2}, {1, 0, 3}, {2, 2, 7}, {1, 2, 1}});
+  EXPECT_EQ(g.num_vertices(), 3);
+  EXPECT_EQ(g.num_edges(), 2);
+  EXPECT_EQ(g.vwgt[1], 1); // zero weight clamped for METIS
+  // Every directed entry has its mirror with the same weight; (0,1) carries 2 + 3.
+  for (int64_t v = 0; v < 3; ++v)
+    for (int64_t k = g.xadj[v]; k < g.xadj[v + 1]; ++k) {
+      const int64_t u = g.adjncy[k];
+      EXPECT_NE(u, v);
+      bool mirrored = false;
+      for (int64_t m = g.xadj[u]; m < g.xadj[u + 1]; ++m)
+        if (g.adjncy[m] == v && g.adjwgt[m] == g.adjwgt[k]) mirrored = true;
+      EXPECT_TRUE(mirrored);
+      if ((v == 0 && u == 1) || (v == 1 && u == 0)) EXPECT_EQ(g.adjwgt[k], 5);
+    }
+  EXPECT_THROW(build_graph(2, {1, 1}, {{0, 2, 1}}), std::invalid_argument);
+  EXPECT_THROW(build_graph(2, {1}, {}), std::invalid_argument);
+}
+
+TEST(BalanceKernels, ImbalanceAnalytic)
+{
+  EXPECT_DOUBLE_EQ(imbalance({4, 0, 0, 0}), 4.0);
+  EXPECT_DOUBLE_EQ(imbalance({2, 2, 2}), 1.0);
+  EXPECT_DOUBLE_EQ(imbalance({0, 0}), 1.0);
+  EXPECT_DOUBLE_EQ(imbalance({3, 1}), 1.5);
+  EXPECT_THROW(imbalance({}), std::invalid_argument);
+  const auto loads = part_loads({1, 2, 3, 4}, {0, 1, 1, 0}, 2);
+  EXPECT_DOUBLE_EQ(loads[0], 5);
+  EXPECT_DOUBLE_EQ(loads[1], 5);
+}
+
+TEST(BalanceKernels, EdgeCutOfGridHalves)
+{
+  const int n = 10;
+  const Graph g = grid_graph(n, n);
+  std::vector<int> part(n * n);
+  for (int v = 0; v < n * n; ++v) part[v] = (v % n) < n / 2 ? 0 : 1; // vertical cut line
+  EXPECT_EQ(edge_cut(g, part), n);
+}
+
+TEST(BalanceKernels, MetisPartitionsGridEvenlyWithShortCuts)
+{
+  const int n = 40;
+  const Graph g = grid_graph(n, n);
+  for (int nparts : {2, 4, 6}) {
+    const auto part = partition_kway(g, nparts, 1.02);
+    ASSERT_EQ(static_cast<int>(part.size()), n * n);
+    std::vector<double> load(nparts, 0);
+    for (int p : part) {
+      ASSERT_GE(p, 0);
+      ASSERT_LT(p, nparts);
+      load[p] += 1;
+    }
+    EXPECT_LE(imbalance(load), 1.03) << nparts << " parts";
+    // Straight cuts: 2 parts n, 4 parts 2n; 6 parts about 3n. Allow twice that.
+    const double ideal = nparts == 2 ? n : nparts == 4 ? 2 * n : 3 * n;
+    EXPECT_LE(edge_cut(g, part), 2 * ideal) << nparts << " parts";
+    EXPECT_EQ(part, partition_kway(g, nparts, 1.02)) << "deterministic";
+  }
+  EXPECT_EQ(partition_kway(g, 1), std::vector<int>(n * n, 0));
+}
+
+TEST(BalanceKernels, RelabelRecoversAPermutationWithoutMigration)
+{
+  std::mt19937 rng(3);
+  std::vector<int> owner(200);
+  for (auto& o : owner) o = static_cast<int>(rng() % 5);
+  const std::vector<int> perm = {3, 0, 4, 1, 2};
+  std::vector<int> fresh(owner.size());
+  for (size_t v = 0; v < owner.size(); ++v) fresh[v] = perm[owner[v]];
+  const std::vector<double> w(owner.size(), 1.0);
+  const auto relabelled = relabel_max_overlap(fresh, owner, w, 5);
+  EXPECT_EQ(relabelled, owner);
+  EXPECT_DOUBLE_EQ(migration_weight(owner, relabelled, w), 0.0);
+}
+
+TEST(BalanceKernels, RelabelMatchesBruteForceOptimum)
+{
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int nparts = 2 + trial % 4; // 2..5
+    std::vector<int> owner(300), fresh(300);
+    std::vector<double> w(300);
+    for (int v = 0; v < 300; ++v) {
+      owner[v] = static_cast<int>(rng() % nparts);
+      fresh[v] = static_cast<int>(rng() % nparts);
+      w[v] = 1.0 + (rng() % 7);
+    }
+    std::vector<int> perm(nparts);
+    std::iota(perm.begin(), perm.end(), 0);
+    double best = 1e300;
+    do {
+      std::vector<int> relabelled(300);
+      for (int v = 0; v < 300; ++v) relabelled[v] = perm[fresh[v]];
+      best = std::min(best, migration_weight(owner, relabelled, w));
+    } while (std::next_permutation(perm.begin(), perm.end()));
+    const auto hung = relabel_max_overlap(fresh, owner, w, nparts);
+    EXPECT_DOUBLE_EQ(migration_weight(owner, hung, w), best) << "trial " << trial;
+    // The relabelled partition is the same partition (a bijection of labels).
+    std::set<std::pair<int, int>> map;
+    for (int v = 0; v < 300; ++v) map.insert({fresh[v], hung[v]});
+    EXPECT_EQ(static_cast<int>(map.size()), nparts);
+  }
+}
+
+TEST(BalanceKernels, BinnedPairsMatchBruteForce)
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double lo[3] = {0, 0, 0}, hi[3] = {1.0, 0.8, 0.6};
+  for (int pattern = 0; pattern < 4; ++pattern) {
+    const bool periodic[3] = {(pattern & 1) != 0, (pattern & 2) != 0, pattern == 3};
+    std::vector<double> xyz(3 * 500), rad(500);
+    for (int i = 0; i < 500; ++i) {
+      for (int d = 0; d < 3; ++d) xyz[3 * i + d] = lo[d] + (hi[d] - lo[d]) * u(rng);
+      rad[i] = 0.01 + 0.02 * u(rng);
+    }
+    const auto ref = brute_force_pairs(xyz, rad, 0.01, lo, hi, periodic);
+    const auto got = binned_pairs(xyz, rad, 0.01, lo, hi, periodic);
+    EXPECT_GT(ref.size(), 100u);
+    EXPECT_EQ(got, ref) << "periodic pattern " << pattern;
+  }
+}
+
+TEST(BalanceKernels, CalibratedCostsArePositiveAndContactsCostMoreThanChecks)
+{
+  const InteractionCosts c = calibrate_costs(0.02);
+  EXPECT_DOUBLE_EQ(c.pair_check, 1.0);
+  EXPECT_GT(c.sphere_contact, 1.0); // a Hertz law with history does more than a distance test
+  EXPECT_GT(c.facet_contact, c.facet_check);
+  EXPECT_GT(c.wall_contact, 0.0);
+}
