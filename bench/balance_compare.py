@@ -25,9 +25,11 @@ import harness  # noqa: E402
 from fracdem import balance  # noqa: E402
 
 FRACDEM_METHODS = {  # name -> variables of in.settle_fracdem
-    "slabs (fracdem, measured)": dict(thresh="1e30", model="aposteriori"),
-    "graph a priori": dict(thresh=1.05, model="apriori"),
-    "graph a posteriori": dict(thresh=1.05, model="aposteriori"),
+    "slabs (fracdem, measured)": dict(thresh="1e30", model="aposteriori", cost="counts"),
+    "graph a priori counts": dict(thresh=1.05, model="apriori", cost="counts"),
+    "graph a posteriori counts": dict(thresh=1.05, model="aposteriori", cost="counts"),
+    "graph a posteriori calibrated": dict(thresh=1.05, model="aposteriori", cost="calibrated"),
+    "graph a posteriori timed": dict(thresh=1.05, model="aposteriori", cost="timed"),
 }
 LAMMPS_METHODS = {  # name -> balance variable of in.settle_lammps
     "LAMMPS slabs": "none",

@@ -46,6 +46,14 @@ const CostModelEntry kCostModels[] = {{"counts", FixBalanceGraph::CostModel::Cou
                                       {"calibrated", FixBalanceGraph::CostModel::Calibrated},
                                       {"timed", FixBalanceGraph::CostModel::Timed}};
 
+struct StrategyEntry {
+  const char *name;
+  FixBalanceGraph::Strategy strategy;
+};
+const StrategyEntry kStrategies[] = {{"auto", FixBalanceGraph::Strategy::Auto},
+                                     {"refine", FixBalanceGraph::Strategy::Refine},
+                                     {"scratch", FixBalanceGraph::Strategy::Scratch}};
+
 // Partitioners this build offers; Scotch is named so that asking for it gives a clear answer.
 struct PartitionerEntry {
   const char *name;
@@ -66,6 +74,10 @@ double thread_cpu_seconds()
 }
 
 constexpr double kMetisImbalanceTolerance = 1.02;
+// `repartition auto` diffuses from the current owners below this imbalance of the graph weights,
+// and partitions from scratch above it (diffusion from a far-off start degrades part shapes).
+constexpr double kRefineBelow = 1.5;
+constexpr int kRefinePasses = 64;
 constexpr double kWeightResolution = 100.0; // integer vertex weight of a particle of average cost
 
 } // namespace
@@ -104,6 +116,12 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
         if (val == e.name) p = &e;
       if (!p) fail("keyword 'partitioner': expected metis or scotch, got '" + val + "'");
       if (!p->available) fail("keyword 'partitioner " + val + "': " + p->why_not);
+    } else if (key == "repartition") {
+      bool found = false;
+      for (const auto &e : kStrategies)
+        if (val == e.name) strategy_ = e.strategy, found = true;
+      if (!found)
+        fail("keyword 'repartition': expected auto, refine or scratch, got '" + val + "'");
     } else if (key == "out") {
       if (comm->me == 0) {
         out_ = fopen(val.c_str(), "w");
@@ -116,7 +134,8 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
         fputc('\n', out_);
       }
     } else {
-      fail("unknown keyword '" + key + "' (expected model, cost, partitioner or out)");
+      fail("unknown keyword '" + key +
+           "' (expected model, cost, partitioner, repartition or out)");
     }
   }
 
@@ -411,13 +430,25 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
       pairs.push_back({a->second, b->second, all_edges[e + 2]});
     }
     try {
-      const fracdem::balance::Graph g = fracdem::balance::build_graph(n, vwgt, pairs);
-      std::vector<int> part = fracdem::balance::partition_kway(g, nprocs, kMetisImbalanceTolerance);
-      const std::vector<double> one(n, 1.0);
-      part = fracdem::balance::relabel_max_overlap(part, old_owner, one, nprocs);
+      namespace fb = fracdem::balance;
+      const fb::Graph g = fb::build_graph(n, vwgt, pairs);
       const std::vector<double> load(vwgt.begin(), vwgt.end());
-      stats[0] = fracdem::balance::imbalance(fracdem::balance::part_loads(load, part, nprocs));
-      stats[1] = static_cast<double>(fracdem::balance::edge_cut(g, part));
+      const double current = fb::imbalance(fb::part_loads(load, old_owner, nprocs));
+      std::vector<int> part;
+      bool refined = false;
+      if (strategy_ == Strategy::Refine || (strategy_ == Strategy::Auto && current < kRefineBelow)) {
+        part = old_owner;
+        refined = fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <=
+                  kRefinePasses;
+      }
+      if (!refined && strategy_ != Strategy::Refine) {
+        // From scratch, then relabelled so that most particles stay where they are.
+        const std::vector<double> one(n, 1.0);
+        part = fb::relabel_max_overlap(fb::partition_kway(g, nprocs, kMetisImbalanceTolerance),
+                                       old_owner, one, nprocs);
+      }
+      stats[0] = fb::imbalance(fb::part_loads(load, part, nprocs));
+      stats[1] = static_cast<double>(fb::edge_cut(g, part));
       part_all = std::move(part);
     } catch (const std::exception &ex) {
       failed = 1;

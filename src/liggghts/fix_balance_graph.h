@@ -30,6 +30,7 @@ class FixBalanceGraph : public Fix {
 
   enum class GraphModel { APriori, APosteriori };
   enum class CostModel { Counts, Calibrated, Timed };
+  enum class Strategy { Auto, Refine, Scratch };
 
  private:
   // What one check measured on this rank, per local particle and in total.
@@ -43,7 +44,8 @@ class FixBalanceGraph : public Fix {
   int check_every_;
   double threshold_;
   GraphModel graph_model_ = GraphModel::APosteriori;
-  CostModel cost_model_ = CostModel::Counts;
+  CostModel cost_model_ = CostModel::Timed;
+  Strategy strategy_ = Strategy::Auto;
   fracdem::balance::InteractionCosts costs_;
   FILE *out_ = nullptr;
   class CommGraph *comm_graph_ = nullptr;

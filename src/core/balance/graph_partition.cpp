@@ -129,6 +129,74 @@ std::vector<int> partition_kway(const Graph& g, int nparts, double ubfactor)
   return std::vector<int>(part.begin(), part.end());
 }
 
+int refine_partition(const Graph& g, std::vector<int>& part, int nparts, double ubfactor,
+                     int max_passes)
+{
+  const int64_t n = g.num_vertices();
+  if (nparts <= 1 || n == 0) return 0;
+  std::vector<double> load(nparts, 0.0);
+  double total = 0;
+  for (int64_t v = 0; v < n; ++v) {
+    load[part[v]] += static_cast<double>(g.vwgt[v]);
+    total += static_cast<double>(g.vwgt[v]);
+  }
+  const double average = total / nparts, limit = ubfactor * average;
+  struct Move {
+    double gain;
+    int64_t v;
+    int to;
+  };
+  std::vector<Move> moves;
+  std::vector<double> conn(nparts, 0.0); // edge weight from v to each part
+  std::vector<int> touched;
+  int pass = 0;
+  for (; pass < max_passes; ++pass) {
+    if (*std::max_element(load.begin(), load.end()) <= limit) return pass;
+    // Candidate moves out of every part above the average into lighter adjacent parts (parts
+    // between the average and the limit must pass load on, or a chain of parts stalls).
+    moves.clear();
+    for (int64_t v = 0; v < n; ++v) {
+      const int from = part[v];
+      if (load[from] <= average) continue;
+      touched.clear();
+      for (int64_t k = g.xadj[v]; k < g.xadj[v + 1]; ++k) {
+        const int p = part[g.adjncy[k]];
+        if (conn[p] == 0.0) touched.push_back(p);
+        conn[p] += static_cast<double>(g.adjwgt[k]);
+      }
+      const double w = static_cast<double>(g.vwgt[v]);
+      int best = -1;
+      double best_gain = -1e300;
+      for (int p : touched) {
+        if (p == from || load[p] + w >= load[from]) continue; // only downhill
+        const double gain = conn[p] - conn[from];
+        if (gain > best_gain) best_gain = gain, best = p;
+      }
+      for (int p : touched) conn[p] = 0.0;
+      if (best >= 0) moves.push_back({best_gain, v, best});
+    }
+    if (moves.empty()) break;
+    std::sort(moves.begin(), moves.end(), [](const Move& a, const Move& b) {
+      return a.gain != b.gain ? a.gain > b.gain : a.v < b.v;
+    });
+    bool moved = false;
+    for (const Move& m : moves) {
+      const int from = part[m.v];
+      const double w = static_cast<double>(g.vwgt[m.v]);
+      // Re-check with the loads as they are now: only downhill moves, so the sum of squared
+      // loads falls with every move; a part may pass the limit on the way and hand on its excess
+      // in the next pass (diffusion through intermediate parts).
+      if (load[from] <= average || load[m.to] + w >= load[from]) continue;
+      part[m.v] = m.to;
+      load[from] -= w;
+      load[m.to] += w;
+      moved = true;
+    }
+    if (!moved) break;
+  }
+  return *std::max_element(load.begin(), load.end()) <= limit ? pass : max_passes + 1;
+}
+
 namespace {
 
 // Hungarian algorithm (potentials, O(n^3)) for a square cost matrix: row r -> column assign[r].

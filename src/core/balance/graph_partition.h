@@ -44,6 +44,14 @@ int64_t edge_cut(const Graph& g, const std::vector<int>& part);
 // Throws std::runtime_error if METIS fails, std::overflow_error if the graph does not fit idx_t.
 std::vector<int> partition_kway(const Graph& g, int nparts, double ubfactor = 1.02);
 
+// Diffusive repartitioning from the current assignment: moves boundary vertices from parts above
+// ubfactor * average load to lighter adjacent parts, best edge-cut gain first, pass after pass,
+// until balanced or no move helps. Far less migration than a partition from scratch when the
+// imbalance is moderate; parts keep their shape. Returns the number of passes used (> max_passes
+// means balance was not reached; the partition is still improved).
+int refine_partition(const Graph& g, std::vector<int>& part, int nparts, double ubfactor = 1.02,
+                     int max_passes = 64);
+
 // Permutes the labels of new_part so that the migration weight (vertices whose label differs
 // from old_owner) is minimal: an exact assignment problem, solved by the Hungarian algorithm.
 // old_owner values outside [0, nparts) mean "no current owner".
