@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Installs everything fracdem needs on Debian bookworm (idempotent) and builds it into build/.
+# `--bench` also installs LAMMPS (`lmp`), the spatial-balancer reference of the balance benchmark.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 DEBS=(liggghts libliggghts-dev openmpi-bin libopenmpi-dev libmetis-dev libvtk9-dev
       libgtest-dev cmake g++ make python3-vtk9)
+[ "${1:-}" = "--bench" ] && DEBS+=(lammps)
 missing=()
 for p in "${DEBS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,47 @@
+"""fix balance/graph refuses bad input with a clear error naming the command, keyword and what
+was expected, and refuses fix mesh/surface walls naming the rigid fem/body alternative."""
+import os
+import tempfile
+
+import harness as h
+
+args = h.parse_args()
+STL = """solid plate
+ facet normal 0 0 1
+  outer loop
+   vertex 0 0 0.001
+   vertex 0.07 0 0.001
+   vertex 0 0.07 0.001
+  endloop
+ endfacet
+endsolid plate
+"""
+cases = [
+    ("fix bal all balance/graph 0 1.1", "Nevery must be a positive integer"),
+    ("fix bal all balance/graph 10 0.9", "thresh must be a number >= 1.0"),
+    ("fix bal all balance/graph 10 1.1 model magic", "keyword 'model': expected apriori or aposteriori"),
+    ("fix bal all balance/graph 10 1.1 cost guess", "keyword 'cost': expected counts, calibrated or timed"),
+    ("fix bal all balance/graph 10 1.1 partitioner scotch", "partitioner scotch"),
+    ("fix bal all balance/graph 10 1.1 repartition twice", "keyword 'repartition'"),
+    ("fix bal all balance/graph 10 1.1 colour red", "unknown keyword 'colour'"),
+    ("fix bal all balance/graph 10 1.1 model", "keyword 'model' needs a value"),
+    ("group lower id <= 10\nfix bal lower balance/graph 10 1.1", "group must be 'all'"),
+    ("fix wallmesh all mesh/surface file plate.stl type 1\n"
+     "fix bal all balance/graph 10 1.1", "use a rigid 'fix fem/body"),
+]
+for extra, expected in cases:
+    wd = tempfile.mkdtemp(prefix="balance_errors_")
+    h.copy_inputs(["in.balance_bed"], wd)
+    with open(os.path.join(wd, "plate.stl"), "w") as f:
+        f.write(STL)
+    # The bed script with the balance fix replaced by the line under test, run for one step.
+    with open(os.path.join(wd, "in.balance_bed")) as f:
+        text = f.read()
+    text = text.replace('if "${balance} == 1" then &\n  "fix bal all balance/graph ${every} ${thresh} '
+                        'model ${model} cost ${cost} out balance.csv"', extra)
+    text = text.replace('if "${balance} == 1" then "variable fbal equal f_bal[2]"', "")
+    with open(os.path.join(wd, "in.case"), "w") as f:
+        f.write(text)
+    out = h.run(args.exe, "in.case", np_=1, workdir=wd, variables=dict(steps=1), expect_fail=True)
+    err = [l for l in out.splitlines() if "ERROR" in l]
+    h.check(err and expected in err[0], f"'{extra.splitlines()[-1]}' -> {err[0] if err else 'no error'}")
