@@ -126,6 +126,39 @@ def rect_mesh(nx, ny, lx, ly, origin=(0.0, 0.0), element="tri3"):
     return X, np.array(elems), edges
 
 
+def compact(nodes, elements):
+    """Drop nodes that no element uses and renumber: (nodes, elements)."""
+    used = np.unique(np.asarray(elements).ravel())
+    new_id = -np.ones(len(nodes), dtype=int)
+    new_id[used] = np.arange(len(used))
+    return np.asarray(nodes)[used], new_id[np.asarray(elements)]
+
+
+def bucket_2d(width, height, wall, h, origin=(0.0, 0.0), opening="+x"):
+    """A 2D dragline bucket: a U-shaped tri3 section (floor, back wall, top lip open), open
+    towards `opening` ("+x" or "-x"). Cells of about h; returns (nodes, tri3 elements)."""
+    nx, ny = max(2, int(round(width / h))), max(2, int(round(height / h)))
+    X, E, _ = rect_mesh(nx, ny, width, height, origin=origin, element="tri3")
+    c = X[E].mean(axis=1)
+    x0, y0 = origin
+    back = (c[:, 0] < x0 + wall) if opening == "+x" else (c[:, 0] > x0 + width - wall)
+    keep = (c[:, 1] < y0 + wall) | back
+    return compact(X, E[keep])
+
+
+def funnel_tet_mesh(r_outlet, r_top, height, thickness, n_around, n_up, n_through=1,
+                    origin=(0.0, 0.0, 0.0)):
+    """A conical hopper wall (tet4): inner radius r_outlet at the bottom to r_top at the top,
+    wall `thickness`. A box mesh in (s, theta, z) mapped to cylindrical coordinates, so that
+    elements keep a positive orientation. The seam at theta = 0 is left unmerged (fine for a
+    rigid body: the seam faces lie inside the wall). Returns (nodes, tets)."""
+    X, E, _ = box_tet_mesh(n_through, n_around, n_up, thickness, 2 * np.pi, height)
+    s, th, z = X[:, 0], X[:, 1], X[:, 2]
+    r = r_outlet + (r_top - r_outlet) * z / height + s
+    nodes = np.column_stack([origin[0] + r * np.cos(th), origin[1] + r * np.sin(th), origin[2] + z])
+    return nodes, E
+
+
 _GMSH_TYPE = {2: 1, 3: 2, 4: 4}  # nodes per element -> gmsh type for body elements by dim
 
 

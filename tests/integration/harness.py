@@ -108,6 +108,16 @@ def make_rect_mesh(path, n, l, origin=(0.0, 0.0), element="tri3"):
     return X, E
 
 
+def make_bucket_mesh(path, origin=(-0.14, 0.002)):
+    """The 2D dragline bucket of in.balance_dragline (tri3 U section, open towards +x)."""
+    sys.path.insert(0, os.path.join(ROOT, "python"))
+    from fracdem import meshgen
+
+    X, E = meshgen.bucket_2d(0.12, 0.07, 0.01, 0.005, origin=origin)
+    meshgen.write_gmsh22(path, X, E)
+    return X, E
+
+
 def read_csv(path):
     import csv
 
