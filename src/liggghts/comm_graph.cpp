@@ -116,8 +116,14 @@ void CommGraph::exchange()
   AtomVec *avec = atom->avec;
   int nlocal = atom->nlocal;
   std::vector<int> dest;
-  if (static_cast<int>(pending_dest_.size()) == nlocal) dest.swap(pending_dest_);
-  else dest.assign(nlocal, me);
+  if (!cell_owners_.empty()) {
+    dest.resize(nlocal);
+    for (int i = 0; i < nlocal; ++i) dest[i] = cell_owners_[cell_grid_.cell_of(atom->x[i])];
+  } else if (static_cast<int>(pending_dest_.size()) == nlocal) {
+    dest.swap(pending_dest_);
+  } else {
+    dest.assign(nlocal, me);
+  }
   pending_dest_.clear();
 
   const int *periodic = domain->periodicity;
@@ -172,8 +178,9 @@ void CommGraph::exchange()
                   recv_count.data(), recv_disp.data(), MPI_DOUBLE, world);
     int m = 0;
     while (m < total) m += avec->unpack_exchange(&in_buf_[m]);
-    migration_seconds_ += MPI_Wtime() - t_start;
+    if (time_next_migration_) migration_seconds_ += MPI_Wtime() - t_start;
   }
+  time_next_migration_ = false;
   last_migrated_ = migrated;
 
   bigint nlocal_big = atom->nlocal;
@@ -231,15 +238,14 @@ void CommGraph::borders()
     for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
     my_cells.push_back(cell_id(c[0], c[1], c[2]));
   }
+  // Bricks of all ranks, when insertion fixes need every particle near the brick they insert
+  // into: tested per atom as boxes (cheap), not as cells (a brick can hold very many cells).
+  std::vector<double> bricks;
   if (cover_brick_) {
-    std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d) {
-      lo[d] = cell_coord(domain->sublo[d], d);
-      hi[d] = cell_coord(domain->subhi[d], d);
-    }
-    for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz)
-      for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
-        for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) my_cells.push_back(cell_id(cx, cy, cz));
+    double mine_box[6] = {domain->sublo[0], domain->sublo[1], domain->sublo[2],
+                          domain->subhi[0], domain->subhi[1], domain->subhi[2]};
+    bricks.resize(6 * nprocs);
+    MPI_Allgather(mine_box, 6, MPI_DOUBLE, bricks.data(), 6, MPI_DOUBLE, world);
   }
   std::sort(my_cells.begin(), my_cells.end());
   my_cells.erase(std::unique(my_cells.begin(), my_cells.end()), my_cells.end());
@@ -335,8 +341,27 @@ void CommGraph::borders()
     for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
     const std::int64_t id = cell_id(c[0], c[1], c[2]);
     const size_t m = std::lower_bound(my_cells.begin(), my_cells.end(), id) - my_cells.begin();
-    if (cand_start_[m] == cand_start_[m + 1]) continue; // interior: nobody needs it
     targets.clear();
+    if (cover_brick_) {
+      for (int s = 0; s < nshift; ++s) {
+        double y[3];
+        for (int d = 0; d < 3; ++d) y[d] = x[i][d] + shifts_[s][d] * prd[d];
+        for (int q = 0; q < nprocs; ++q) {
+          if (q == me && s == 0) continue;
+          const double *b = &bricks[6 * q];
+          double dist2 = 0;
+          for (int d = 0; d < dim; ++d) {
+            const double gap = std::max({b[d] - y[d], 0.0, y[d] - b[3 + d]});
+            dist2 += gap * gap;
+          }
+          if (dist2 > cut2) continue;
+          const int iswap = ((q - me + nprocs) % nprocs) * nshift + s;
+          if (std::find(targets.begin(), targets.end(), iswap) == targets.end())
+            targets.push_back(iswap);
+        }
+      }
+    }
+    if (cand_start_[m] == cand_start_[m + 1] && targets.empty()) continue; // interior
     for (std::int64_t k = cand_start_[m]; k < cand_start_[m + 1]; ++k) {
       const Candidate &cd = cands_[k];
       double dist2 = 0;

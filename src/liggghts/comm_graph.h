@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "balance/cell_grid.h"
 #include "comm.h"
 
 namespace LAMMPS_NS {
@@ -15,9 +16,11 @@ namespace LAMMPS_NS {
 // read. Until graph ownership is switched on it is the stock Comm (every call forwards to the
 // base), so stock scripts run unchanged.
 //
-// In graph mode an atom stays on its rank between repartitions; exchange() only moves atoms whose
-// destination was set by the balancer (set_destinations) and drops atoms that left the box through
-// non-periodic boundaries, as the stock exchange does. Ghosts refine the paper's box exchange: the
+// In graph mode ownership is either per cell (set_cell_owners: every exchange sends each atom to
+// the owner of its cell, so ownership follows the particles' motion and inserted particles find
+// their owner) or per atom (set_destinations: an atom stays on its rank between repartitions, the
+// paper's particle graph). Atoms that left the box through non-periodic boundaries are dropped, as
+// the stock exchange drops them. Ghosts refine the paper's box exchange: the
 // box is cut into cells of edge >= the ghost cutoff, each rank's cover is the set of cells holding
 // its atoms (plus its stock brick's cells while an insertion fix must see every particle near the
 // brick it inserts into), and a rank receives every atom image in a cell adjacent to its cover.
@@ -37,16 +40,33 @@ class CommGraph : public Comm {
   bool graph_ownership() const { return graph_mode_; }
   // Whether ghosts must also cover the stock brick (insertion fixes check overlaps there).
   void set_cover_brick(bool on) { cover_brick_ = on; }
+  // Ownership by cells: from now on every exchange sends each atom to the owner of its cell
+  // (owners: one rank per cell of grid). Replaces per-atom destinations.
+  void set_cell_owners(const fracdem::balance::CellGrid &grid, std::vector<int> owners)
+  {
+    cell_grid_ = grid;
+    cell_owners_ = std::move(owners);
+    time_next_migration_ = true;
+  }
+  bool has_cell_owners() const { return !cell_owners_.empty(); }
+  const fracdem::balance::CellGrid &cell_grid() const { return cell_grid_; }
+  const std::vector<int> &cell_owners() const { return cell_owners_; }
   // Destination rank of each local atom for the next exchange (size nlocal); consumed by it.
-  void set_destinations(std::vector<int> dest) { pending_dest_ = std::move(dest); }
+  void set_destinations(std::vector<int> dest)
+  {
+    pending_dest_ = std::move(dest);
+    time_next_migration_ = true;
+  }
 
   // Statistics of the last exchange/borders in graph mode.
   int last_migrated() const { return last_migrated_; }
-  double migration_seconds() const { return migration_seconds_; } // cumulative, exchanges that moved atoms
+  double migration_seconds() const { return migration_seconds_; } // cumulative, repartition exchanges
 
  private:
   bool graph_mode_ = false;
   std::vector<int> pending_dest_;
+  fracdem::balance::CellGrid cell_grid_;
+  std::vector<int> cell_owners_;
   std::vector<std::array<int, 3>> shifts_;   // periodic image shifts, zero shift first
   std::vector<std::pair<std::int64_t, int>> cell_owner_; // (cover cell, rank), sorted
   std::vector<std::int64_t> cell_start_;                 // dense CSR index into cell_owner_
@@ -64,6 +84,7 @@ class CommGraph : public Comm {
   std::vector<double> in_buf_;
   int last_migrated_ = 0;
   double migration_seconds_ = 0;
+  bool time_next_migration_ = false; // the next exchange carries out a repartition
 
   void build_swaps();
 };

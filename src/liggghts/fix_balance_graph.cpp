@@ -122,6 +122,11 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
         if (val == e.name) strategy_ = e.strategy, found = true;
       if (!found)
         fail("keyword 'repartition': expected auto, refine or scratch, got '" + val + "'");
+    } else if (key == "cells") {
+      cell_factor_ = strtod(val.c_str(), &end);
+      if (*end || !(cell_factor_ == 0.0 || cell_factor_ >= 1.0))
+        fail("keyword 'cells': expected 0 (one vertex per particle) or a cell edge >= 1 in ghost "
+             "cutoffs, got '" + val + "'");
     } else if (key == "out") {
       if (comm->me == 0) {
         out_ = fopen(val.c_str(), "w");
@@ -135,7 +140,7 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
       }
     } else {
       fail("unknown keyword '" + key +
-           "' (expected model, cost, partitioner, repartition or out)");
+           "' (expected model, cost, partitioner, repartition, cells or out)");
     }
   }
 
@@ -307,6 +312,16 @@ void FixBalanceGraph::measure(LocalCosts &lc)
   const bool newton = force->newton_pair != 0;
   const std::int64_t contact_edge_weight =
       std::max<std::int64_t>(1, std::llround(costs_.sphere_contact / costs_.pair_check));
+  const bool by_cell = cell_factor_ > 0;
+  if (by_cell) {
+    const bool periodic[3] = {domain->periodicity[0] != 0, domain->periodicity[1] != 0,
+                              domain->periodicity[2] != 0};
+    grid_ = fracdem::balance::make_cell_grid(domain->boxlo, domain->boxhi,
+                                             cell_factor_ * comm->cutghost[0], domain->dimension,
+                                             periodic);
+    lc.cell.resize(nlocal);
+    for (int i = 0; i < nlocal; ++i) lc.cell[i] = grid_.cell_of(x[i]);
+  }
 
   // Potential targets and sphere-sphere contacts from the host's own list: no second search.
   NeighList *list = force->pair->list;
@@ -325,8 +340,15 @@ void FixBalanceGraph::measure(LocalCosts &lc)
         lc.cost[i] += costs_.pair_check + (touching ? costs_.sphere_contact : 0.0);
         if (!newton && j >= nlocal && tag[i] > tag[j]) continue;
         const std::int64_t w = (aposteriori && touching) ? 1 + contact_edge_weight : 1;
-        lc.edges.push_back(tag[i]);
-        lc.edges.push_back(tag[j]);
+        if (by_cell) {
+          const std::int64_t cj = grid_.cell_of(x[j]);
+          if (cj == lc.cell[i]) continue; // inside one vertex
+          lc.edges.push_back(lc.cell[i]);
+          lc.edges.push_back(cj);
+        } else {
+          lc.edges.push_back(tag[i]);
+          lc.edges.push_back(tag[j]);
+        }
         lc.edges.push_back(w);
       }
     }
@@ -369,8 +391,37 @@ void FixBalanceGraph::measure(LocalCosts &lc)
   }
 }
 
+std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Graph &g,
+                                                   const std::vector<int> &old_owner,
+                                                   double stats[2]) const
+{
+  namespace fb = fracdem::balance;
+  const int nprocs = comm->nprocs;
+  const std::vector<double> load(g.vwgt.begin(), g.vwgt.end());
+  const double current = fb::imbalance(fb::part_loads(load, old_owner, nprocs));
+  std::vector<int> part;
+  bool refined = false;
+  if (strategy_ == Strategy::Refine || (strategy_ == Strategy::Auto && current < kRefineBelow)) {
+    part = old_owner;
+    refined =
+        fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <= kRefinePasses;
+  }
+  if (!refined && strategy_ != Strategy::Refine) {
+    // From scratch, then relabelled so that most of the load stays where it is.
+    part = fb::relabel_max_overlap(fb::partition_kway(g, nprocs, kMetisImbalanceTolerance),
+                                   old_owner, load, nprocs);
+  }
+  stats[0] = fb::imbalance(fb::part_loads(load, part, nprocs));
+  stats[1] = static_cast<double>(fb::edge_cut(g, part));
+  return part;
+}
+
 void FixBalanceGraph::repartition(const LocalCosts &lc)
 {
+  if (cell_factor_ > 0) {
+    repartition_cells(lc);
+    return;
+  }
   const int me = comm->me, nprocs = comm->nprocs;
   const int nlocal = atom->nlocal;
 
@@ -430,26 +481,8 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
       pairs.push_back({a->second, b->second, all_edges[e + 2]});
     }
     try {
-      namespace fb = fracdem::balance;
-      const fb::Graph g = fb::build_graph(n, vwgt, pairs);
-      const std::vector<double> load(vwgt.begin(), vwgt.end());
-      const double current = fb::imbalance(fb::part_loads(load, old_owner, nprocs));
-      std::vector<int> part;
-      bool refined = false;
-      if (strategy_ == Strategy::Refine || (strategy_ == Strategy::Auto && current < kRefineBelow)) {
-        part = old_owner;
-        refined = fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <=
-                  kRefinePasses;
-      }
-      if (!refined && strategy_ != Strategy::Refine) {
-        // From scratch, then relabelled so that most particles stay where they are.
-        const std::vector<double> one(n, 1.0);
-        part = fb::relabel_max_overlap(fb::partition_kway(g, nprocs, kMetisImbalanceTolerance),
-                                       old_owner, one, nprocs);
-      }
-      stats[0] = fb::imbalance(fb::part_loads(load, part, nprocs));
-      stats[1] = static_cast<double>(fb::edge_cut(g, part));
-      part_all = std::move(part);
+      const fracdem::balance::Graph g = fracdem::balance::build_graph(n, vwgt, pairs);
+      part_all = partition_on_root(g, old_owner, stats);
     } catch (const std::exception &ex) {
       failed = 1;
       failure = ex.what();
@@ -478,23 +511,153 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
   comm_graph_->enable_graph_ownership("fix balance/graph");
   comm_graph_->set_destinations(std::move(dest));
 
+  record_repartition(stats, migrated);
+}
+
+void FixBalanceGraph::record_repartition(const double stats[2], double migrated)
+{
   imbalance_before_ = imbalance_;
   imbalance_predicted_ = stats[0];
   edge_cut_ = stats[1];
   migrated_last_ = migrated;
   repartitions_ += 1;
 
-  if (me == 0) {
+  if (comm->me == 0) {
     char line[512];
     snprintf(line, sizeof line,
-             "fix balance/graph: step %ld imbalance %.3f > %.3f: repartitioned (%s graph), "
+             "fix balance/graph: step %ld imbalance %.3f > %.3f: repartitioned (%s%s graph), "
              "predicted %.3f, %.0f particles migrate, edge cut %.0f\n",
              static_cast<long>(update->ntimestep), imbalance_, threshold_,
-             graph_model_ == GraphModel::APriori ? "a priori" : "a posteriori", stats[0], migrated,
+             graph_model_ == GraphModel::APriori ? "a priori" : "a posteriori", cell_factor_ > 0 ? " cell" : " particle", stats[0], migrated,
              stats[1]);
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
   }
+}
+
+
+void FixBalanceGraph::repartition_cells(const LocalCosts &lc)
+{
+  const int me = comm->me, nprocs = comm->nprocs;
+  const int nlocal = atom->nlocal;
+  double sum_cost = 0, n_all = 0, local_n = nlocal;
+  MPI_Allreduce(&lc.total, &sum_cost, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&local_n, &n_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double mean_cost = n_all > 0 && sum_cost > 0 ? sum_cost / n_all : 1.0;
+
+  // Local aggregation: (cell, weight) of this rank's particles, and cell-pair edge weights.
+  std::unordered_map<std::int64_t, std::int64_t> cell_weight;
+  for (int i = 0; i < nlocal; ++i) {
+    const double w = graph_model_ == GraphModel::APriori
+                         ? static_cast<double>(std::max<std::int64_t>(1, lc.potential[i]))
+                         : kWeightResolution * lc.cost[i] / mean_cost;
+    cell_weight[lc.cell[i]] += std::max<std::int64_t>(1, std::llround(w));
+  }
+  std::vector<std::int64_t> verts;
+  verts.reserve(2 * cell_weight.size());
+  for (const auto &cw : cell_weight) verts.push_back(cw.first), verts.push_back(cw.second);
+  std::unordered_map<std::int64_t, std::int64_t> edge_weight;
+  const std::int64_t ncells = grid_.total();
+  for (size_t e = 0; e + 2 < lc.edges.size(); e += 3) {
+    const std::int64_t a = std::min(lc.edges[e], lc.edges[e + 1]), b = std::max(lc.edges[e], lc.edges[e + 1]);
+    edge_weight[a * ncells + b] += lc.edges[e + 2];
+  }
+  std::vector<std::int64_t> edges;
+  edges.reserve(3 * edge_weight.size());
+  for (const auto &ew : edge_weight)
+    edges.push_back(ew.first / ncells), edges.push_back(ew.first % ncells), edges.push_back(ew.second);
+
+  int counts[2] = {static_cast<int>(verts.size()), static_cast<int>(edges.size())};
+  std::vector<int> all_counts(2 * nprocs);
+  MPI_Gather(counts, 2, MPI_INT, all_counts.data(), 2, MPI_INT, 0, world);
+  std::vector<int> vcount(nprocs), vdisp(nprocs), ecount(nprocs), edisp(nprocs);
+  int vtotal = 0, etotal = 0;
+  for (int p = 0; p < nprocs; ++p) {
+    vcount[p] = all_counts[2 * p], vdisp[p] = vtotal, vtotal += vcount[p];
+    ecount[p] = all_counts[2 * p + 1], edisp[p] = etotal, etotal += ecount[p];
+  }
+  std::vector<std::int64_t> all_verts(me == 0 ? std::max(vtotal, 1) : 1);
+  std::vector<std::int64_t> all_edges(me == 0 ? std::max(etotal, 1) : 1);
+  MPI_Gatherv(verts.data(), counts[0], MPI_INT64_T, all_verts.data(), vcount.data(), vdisp.data(),
+              MPI_INT64_T, 0, world);
+  MPI_Gatherv(edges.data(), counts[1], MPI_INT64_T, all_edges.data(), ecount.data(), edisp.data(),
+              MPI_INT64_T, 0, world);
+
+  std::vector<int> owners(ncells);
+  double stats[2] = {1.0, 0.0};
+  int failed = 0;
+  std::string failure;
+  if (me == 0) {
+    namespace fb = fracdem::balance;
+    // Occupied cells; a cell shared by several ranks starts with the one holding most of it.
+    std::unordered_map<std::int64_t, std::int64_t> vertex_of_cell;
+    std::vector<std::int64_t> cells, vwgt, best_share;
+    std::vector<int> old_owner;
+    for (int p = 0; p < nprocs; ++p)
+      for (int k = vdisp[p]; k < vdisp[p] + vcount[p]; k += 2) {
+        const std::int64_t cell = all_verts[k], w = all_verts[k + 1];
+        auto it = vertex_of_cell.find(cell);
+        if (it == vertex_of_cell.end()) {
+          vertex_of_cell[cell] = static_cast<std::int64_t>(cells.size());
+          cells.push_back(cell), vwgt.push_back(w), best_share.push_back(w), old_owner.push_back(p);
+        } else {
+          vwgt[it->second] += w;
+          if (w > best_share[it->second]) best_share[it->second] = w, old_owner[it->second] = p;
+        }
+      }
+    const std::int64_t n = static_cast<std::int64_t>(cells.size());
+    std::vector<fb::WeightedPair> pairs;
+    for (int e = 0; e + 2 < etotal; e += 3) {
+      auto a = vertex_of_cell.find(all_edges[e]), b = vertex_of_cell.find(all_edges[e + 1]);
+      if (a == vertex_of_cell.end() || b == vertex_of_cell.end()) continue; // ghost-only cell
+      pairs.push_back({a->second, b->second, all_edges[e + 2]});
+    }
+    // Unit edges between touching occupied cells keep parts compact where particles have no
+    // neighbours yet (free fall, dilute inflow): few ghosts, and no scattered parts.
+    for (std::int64_t v = 0; v < n; ++v) {
+      std::int64_t c[3];
+      grid_.coords(cells[v], c);
+      const int zr = grid_.n[2] > 1 ? 1 : 0;
+      for (int dz = -zr; dz <= zr; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            std::int64_t m[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
+            bool ok = true;
+            for (int d = 0; d < 3; ++d)
+              if (m[d] < 0 || m[d] >= grid_.n[d]) {
+                if (!grid_.periodic[d]) ok = false;
+                m[d] = (m[d] + grid_.n[d]) % grid_.n[d];
+              }
+            if (!ok) continue;
+            auto it = vertex_of_cell.find(grid_.id(m[0], m[1], m[2]));
+            if (it != vertex_of_cell.end() && it->second > v) pairs.push_back({v, it->second, 1});
+          }
+    }
+    try {
+      const fb::Graph g = fb::build_graph(n, vwgt, pairs);
+      const std::vector<int> part = partition_on_root(g, old_owner, stats);
+      owners = fb::fill_cell_owners(grid_, cells, part);
+    } catch (const std::exception &ex) {
+      failed = 1;
+      failure = ex.what();
+    }
+  }
+  MPI_Bcast(&failed, 1, MPI_INT, 0, world);
+  if (failed) {
+    if (me == 0)
+      error->warning(FLERR,
+                     ("fix balance/graph: partitioning failed, ownership kept: " + failure).c_str());
+    return;
+  }
+  MPI_Bcast(stats, 2, MPI_DOUBLE, 0, world);
+  MPI_Bcast(owners.data(), static_cast<int>(ncells), MPI_INT, 0, world);
+
+  double migrated = 0;
+  for (int i = 0; i < nlocal; ++i) migrated += owners[lc.cell[i]] != me;
+  MPI_Allreduce(MPI_IN_PLACE, &migrated, 1, MPI_DOUBLE, MPI_SUM, world);
+  comm_graph_->enable_graph_ownership("fix balance/graph");
+  comm_graph_->set_cell_owners(grid_, std::move(owners));
+  record_repartition(stats, migrated);
 }
 
 double FixBalanceGraph::compute_scalar() { return imbalance_; }

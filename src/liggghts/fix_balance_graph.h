@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "balance/cell_grid.h"
 #include "balance/cost_calibration.h"
+#include "balance/graph_partition.h"
 #include "fix.h"
 
 namespace LAMMPS_NS {
@@ -37,7 +39,8 @@ class FixBalanceGraph : public Fix {
   struct LocalCosts {
     std::vector<double> cost;                   // work model per particle
     std::vector<std::int64_t> potential;        // potential targets per particle
-    std::vector<std::int64_t> edges;            // (tag_i, tag_j, weight) triples
+    std::vector<std::int64_t> edges;            // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
+    std::vector<std::int64_t> cell;             // cell of each particle (cell graph only)
     double total = 0;
   };
 
@@ -46,6 +49,8 @@ class FixBalanceGraph : public Fix {
   GraphModel graph_model_ = GraphModel::APosteriori;
   CostModel cost_model_ = CostModel::Timed;
   Strategy strategy_ = Strategy::Auto;
+  double cell_factor_ = 2.0; // cell edge in ghost cutoffs; 0 = one vertex per particle
+  fracdem::balance::CellGrid grid_;
   fracdem::balance::InteractionCosts costs_;
   FILE *out_ = nullptr;
   class CommGraph *comm_graph_ = nullptr;
@@ -64,6 +69,11 @@ class FixBalanceGraph : public Fix {
 
   void measure(LocalCosts &lc);
   void repartition(const LocalCosts &lc);
+  void repartition_cells(const LocalCosts &lc);
+  void record_repartition(const double stats[2], double migrated);
+  // Partition of a gathered graph on rank 0: refine from old_owner or METIS from scratch.
+  std::vector<int> partition_on_root(const fracdem::balance::Graph &g,
+                                     const std::vector<int> &old_owner, double stats[2]) const;
   void write_row(bool repartitioned, double partition_seconds);
 };
 

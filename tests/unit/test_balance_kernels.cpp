@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "balance/cost_calibration.h"
+#include "balance/cell_grid.h"
 #include "balance/graph_partition.h"
 
 using namespace fracdem::balance;
@@ -194,4 +195,41 @@ TEST(BalanceKernels, RefinementBalancesWithLittleMigration)
   const std::vector<int> even_before = even;
   EXPECT_EQ(refine_partition(g, even, 4, 1.02), 0);
   EXPECT_EQ(even, even_before);
+}
+
+TEST(BalanceKernels, CellGridMapsPointsAndFillsOwnersByDistance)
+{
+  const double lo[3] = {0, 0, 0}, hi[3] = {1.0, 0.5, 0.25};
+  const bool per[3] = {true, false, false};
+  const CellGrid g = make_cell_grid(lo, hi, 0.1, 3, per);
+  EXPECT_EQ(g.n[0], 10);
+  EXPECT_EQ(g.n[1], 5);
+  EXPECT_EQ(g.n[2], 2);
+  const double inside[3] = {0.55, 0.12, 0.2}, wrapped[3] = {-0.05, 0.12, 0.2}, beyond[3] = {0.5, 9.0, -1};
+  int64_t c[3];
+  g.coords(g.cell_of(inside), c);
+  EXPECT_EQ(c[0], 5);
+  EXPECT_EQ(c[1], 1);
+  EXPECT_EQ(c[2], 1);
+  g.coords(g.cell_of(wrapped), c);
+  EXPECT_EQ(c[0], 9); // periodic x wraps
+  g.coords(g.cell_of(beyond), c);
+  EXPECT_EQ(c[1], 4); // non-periodic clamps
+  EXPECT_EQ(c[2], 0);
+
+  // Two seeds at x = 1 and x = 6 (y = z = 0): every cell takes the seed nearer in grid steps
+  // (face-neighbour distance), periodic in x. Check against that brute-force rule.
+  const std::vector<int64_t> seeds = {g.id(1, 0, 0), g.id(6, 0, 0)};
+  const auto owner = fill_cell_owners(g, seeds, {0, 1});
+  for (int64_t cell = 0; cell < g.total(); ++cell) {
+    g.coords(cell, c);
+    auto dist = [&](int64_t sx) {
+      const int64_t dx = std::abs(c[0] - sx);
+      return std::min(dx, g.n[0] - dx) + c[1] + c[2];
+    };
+    const int64_t d0 = dist(1), d1 = dist(6);
+    if (d0 < d1) EXPECT_EQ(owner[cell], 0) << cell;
+    if (d1 < d0) EXPECT_EQ(owner[cell], 1) << cell;
+    EXPECT_GE(owner[cell], 0);
+  }
 }
