@@ -1,11 +1,16 @@
-"""Load-balance comparison on the settling bed: stock z-slabs vs fix balance/graph (a priori,
-a posteriori) in fracdem, and LAMMPS (`lmp`) z-slabs, fix balance shift, rcb weight neigh/time.
+"""Load-balance comparison: stock slabs vs fix balance/graph (a priori / a posteriori, cost
+models) in fracdem, and on the settling bed also LAMMPS (`lmp`) slabs, fix balance shift and
+rcb weight neigh/time as the spatial reference. Scenes:
 
-  python3 bench/balance_compare.py [--ranks 1 2 4 6] [--steps 4000] [--reps 3] [--out bench/results]
+  settle    3D settling bed, ~5300 spheres, z-slabs (LAMMPS reference too)
+  hopper    3D hopper filling: spheres inserted above a rigid fem/body cone, z-slabs
+  dragline  2D dragline bucket: a rigid fem/body bucket dragged through ~900 disks, x-slabs
 
-Writes balance_runs.csv (one row per run), balance_summary.md (tables in the form of the paper's
-Tables 1-3), balance_rank_work.png (per-rank CPU work at the largest rank count, Fig. 4 form) and
-balance_history.png (B over the run). Wall-clock figures are meaningful only where ranks <= cores;
+  python3 bench/balance_compare.py [--scene settle] [--ranks 1 2 4 6] [--steps N] [--reps 3]
+
+Writes, per scene, balance_<scene>_runs.csv (one row per run), balance_<scene>_summary.md (tables
+in the form of the paper's Tables 1-3), balance_<scene>_rank_work.png (per-rank CPU work at the
+largest rank count, Fig. 4 form) and balance_<scene>_history.png (B over the run). Wall-clock figures are meaningful only where ranks <= cores;
 the work-model figures (per-rank thread CPU time measured by fix balance/graph) hold at any count.
 """
 import argparse
@@ -39,9 +44,36 @@ LAMMPS_METHODS = {  # name -> balance variable of in.settle_lammps
 }
 
 
-def run_one(exe, script, np_, variables):
+SCENES = {  # scene -> (fracdem input, LAMMPS input or None, default steps, mesh writer)
+    "settle": ("in.settle_fracdem", "in.settle_lammps", 4000, None),
+    "hopper": ("in.hopper_fracdem", None, 16000, "hopper"),
+    "dragline": ("in.balance_dragline", None, 8000, "bucket"),
+}
+EXTRA = {"dragline": dict(every=200)}  # scene-specific input variables
+
+
+def write_mesh(kind, wd):
+    from fracdem import meshgen
+
+    if kind == "hopper":
+        X, E = meshgen.funnel_tet_mesh(0.02, 0.08, 0.1, 0.005, 36, 8, origin=(0, 0, 0.02))
+        meshgen.write_gmsh22(os.path.join(wd, "hopper.msh"), X, E)
+    elif kind == "bucket":
+        harness.make_bucket_mesh(os.path.join(wd, "bucket.msh"))
+
+
+def input_path(script):
+    for d in (os.path.join(HERE, "inputs"), harness.INPUTS):
+        if os.path.exists(os.path.join(d, script)):
+            return os.path.join(d, script)
+    raise FileNotFoundError(script)
+
+
+def run_one(exe, script, np_, variables, mesh=None):
     wd = tempfile.mkdtemp(prefix="bench_balance_")
-    shutil.copy(os.path.join(HERE, "inputs", script), wd)
+    shutil.copy(input_path(script), wd)
+    if mesh:
+        write_mesh(mesh, wd)
     text = harness.run(exe, script, np_=np_, workdir=wd, variables=variables, timeout=1800)
     stats = balance.run_stats(text)
     csv_path = os.path.join(wd, "balance.csv")
@@ -53,14 +85,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fracdem"))
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 6])
-    ap.add_argument("--steps", type=int, default=4000)
+    ap.add_argument("--scene", choices=sorted(SCENES), default="settle")
+    ap.add_argument("--steps", type=int, default=None, help="default: per scene")
     ap.add_argument("--reps", type=int, default=3, help="repetitions where ranks <= cores")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--no-lammps", action="store_true")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    lmp = None if args.no_lammps else shutil.which("lmp")
+    script, lammps_script, default_steps, mesh = SCENES[args.scene]
+    steps = args.steps or default_steps
+    lmp = None if (args.no_lammps or not lammps_script) else shutil.which("lmp")
     cores = os.cpu_count() or 1
+    tag = f"balance_{args.scene}"
 
     rows, rank_work, history = [], {}, {}
     for np_ in args.ranks:
@@ -68,7 +104,7 @@ def main():
         for name, var in FRACDEM_METHODS.items():
             loops, last = [], None
             for _ in range(reps):
-                stats, df = run_one(args.exe, "in.settle_fracdem", np_, dict(steps=args.steps, **var))
+                stats, df = run_one(args.exe, script, np_, dict(steps=steps, balance=1, **EXTRA.get(args.scene, {}), **var), mesh)
                 loops.append(stats["loop_s"])
                 last = (stats, df)
             stats, df = last
@@ -88,7 +124,7 @@ def main():
             for name, bal in LAMMPS_METHODS.items():
                 loops, last = [], None
                 for _ in range(reps):
-                    stats, _ = run_one(lmp, "in.settle_lammps", np_, dict(steps=args.steps, balance=bal))
+                    stats, _ = run_one(lmp, lammps_script, np_, dict(steps=steps, balance=bal))
                     loops.append(stats["loop_s"])
                     last = stats
                 stats = last
@@ -103,7 +139,7 @@ def main():
     cols = ["method", "ranks", "reps", "loop_s", "measured_B", "model_B", "pair_time_B", "speedup",
             "neighs_max_over_ave", "ghosts_ave", "ghosts_max", "repartitions", "migrated",
             "partition_share"]
-    with open(os.path.join(args.out, "balance_runs.csv"), "w", newline="") as f:
+    with open(os.path.join(args.out, f"{tag}_runs.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols)
         w.writeheader()
         for r in rows:
@@ -116,8 +152,8 @@ def main():
             r["wall_speedup"] = base[r["method"]] / r["loop_s"]
 
     fmt = lambda rs, c: balance.markdown_table(rs, c)  # noqa: E731
-    with open(os.path.join(args.out, "balance_summary.md"), "w") as f:
-        f.write(f"Settling bed, {args.steps} steps; machine with {cores} cores "
+    with open(os.path.join(args.out, f"{tag}_summary.md"), "w") as f:
+        f.write(f"Scene {args.scene}, {steps} steps; machine with {cores} cores "
                 f"(wall-clock speedups only where ranks <= cores).\n\n")
         f.write("Table 1: imbalance and speedup\n\n")
         f.write(fmt(rows, ["method", "ranks", "measured_B", "model_B", "pair_time_B",
@@ -128,11 +164,11 @@ def main():
         graph_rows = [r for r in rows if r["method"].startswith("graph")]
         f.write(fmt(graph_rows, ["method", "ranks", "repartitions", "migrated", "partition_share"]) + "\n")
     if rank_work:
-        balance.plot_rank_work(rank_work, out=os.path.join(args.out, "balance_rank_work.png"),
-                               title=f"Per-rank CPU work, settling bed, {max(args.ranks)} ranks")
-        balance.plot_imbalance_history(history, out=os.path.join(args.out, "balance_history.png"),
-                                       title=f"Measured B, settling bed, {max(args.ranks)} ranks")
-    print(open(os.path.join(args.out, "balance_summary.md")).read())
+        balance.plot_rank_work(rank_work, out=os.path.join(args.out, f"{tag}_rank_work.png"),
+                               title=f"Per-rank CPU work, {args.scene}, {max(args.ranks)} ranks")
+        balance.plot_imbalance_history(history, out=os.path.join(args.out, f"{tag}_history.png"),
+                                       title=f"Measured B, {args.scene}, {max(args.ranks)} ranks")
+    print(open(os.path.join(args.out, f"{tag}_summary.md")).read())
 
 
 if __name__ == "__main__":

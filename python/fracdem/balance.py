@@ -88,16 +88,31 @@ def markdown_table(rows, columns, floatfmt="{:.3g}"):
     return "\n".join(lines)
 
 
-def plot_rank_work(runs, out=None, title="Per-rank work"):
-    """Fig. 4-style grouped bars: total CPU work of each rank for each method.
-
-    runs: dict method -> list of per-rank work values (seconds)."""
+def _figure():
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4))
+    return plt, fig, ax
+
+
+def _finish(plt, fig, ax, title, out):
+    ax.set_title(title)
+    ax.legend()
+    fig.tight_layout()
+    if out:
+        fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return fig
+
+
+def plot_rank_work(runs, out=None, title="Per-rank work"):
+    """Fig. 4-style grouped bars: total CPU work of each rank for each method.
+
+    runs: dict method -> list of per-rank work values (seconds)."""
+    plt, fig, ax = _figure()
     methods = list(runs)
     nranks = max(len(v) for v in runs.values())
     width = 0.8 / max(len(methods), 1)
@@ -108,32 +123,15 @@ def plot_rank_work(runs, out=None, title="Per-rank work"):
     ax.set_xticklabels([str(r) for r in range(nranks)])
     ax.set_xlabel("rank")
     ax.set_ylabel("CPU time of particle work (s)")
-    ax.set_title(title)
-    ax.legend()
-    fig.tight_layout()
-    if out:
-        fig.savefig(out, dpi=120)
-    plt.close(fig)
-    return fig
+    return _finish(plt, fig, ax, title, out)
 
 
 def plot_imbalance_history(series, out=None, title="Imbalance over the run"):
     """B over time: series is dict method -> (steps, B values)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4))
+    plt, fig, ax = _figure()
     for m, (steps, b) in series.items():
         ax.plot(steps, b, marker=".", label=m)
     ax.set_xlabel("step")
     ax.set_ylabel("max/avg per-rank CPU work")
-    ax.set_title(title)
     ax.axhline(1.0, color="k", lw=0.5)
-    ax.legend()
-    fig.tight_layout()
-    if out:
-        fig.savefig(out, dpi=120)
-    plt.close(fig)
-    return fig
+    return _finish(plt, fig, ax, title, out)

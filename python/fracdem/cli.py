@@ -1,4 +1,5 @@
-"""Command line: fracdem-plot energy FILE.csv -o out.png | fracdem-plot log LOGFILE --columns ... -o out.png."""
+"""Command line: fracdem-plot energy FILE.csv -o out.png | fracdem-plot log LOGFILE --columns ... -o out.png
+| fracdem-plot balance balance.csv -o prefix (B history and per-rank work of a fix balance/graph run)."""
 import argparse
 import os
 import sys
@@ -14,12 +15,29 @@ def main(argv=None):
     lg.add_argument("file")
     lg.add_argument("--columns", nargs="+", required=True)
     lg.add_argument("-o", "--output", required=True)
+    b = sub.add_parser("balance", help="plot a fix balance/graph out CSV: B history, per-rank work")
+    b.add_argument("file")
+    b.add_argument("-o", "--output", required=True, help="prefix: PREFIX_history.png, PREFIX_rank_work.png")
     a = p.parse_args(argv)
     if not os.path.exists(a.file):
         print(f"fracdem-plot: no such file: {a.file}", file=sys.stderr)
         return 2
     from . import fem, log, plots
 
+    if a.what == "balance":
+        from . import balance
+
+        df = balance.read_balance_csv(a.file)
+        nprocs = len(balance.rank_columns(df))
+        s = balance.summarize_balance(df, max(nprocs, 1))
+        balance.plot_imbalance_history({"measured": (df["step"], df["measured_imbalance"]),
+                                        "work model": (df["step"], df["imbalance"])},
+                                       out=a.output + "_history.png")
+        balance.plot_rank_work({"CPU work": s.get("work_per_rank", [])}, out=a.output + "_rank_work.png")
+        print(f"ranks {nprocs}: mean measured B {s['measured_B']:.3f}, work-model speedup "
+              f"{s['speedup']:.2f}, {s['repartitions']} repartitions, {s['migrated']:.0f} migrated")
+        print(f"wrote {a.output}_history.png {a.output}_rank_work.png")
+        return 0
     if a.what == "energy":
         plots.plot_energy(fem.read_energy(a.file), out=a.output)
     else:

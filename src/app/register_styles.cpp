@@ -16,7 +16,8 @@
 
 using namespace LAMMPS_NS;
 
-namespace {
+namespace
+{
 
 // LIGGGHTS 3.8 keeps Modify::fix_map private and has no plugin loader. The
 // explicit-instantiation access idiom is the standard-conforming way to name a
@@ -43,7 +44,8 @@ template <typename T> Fix* create_fix(LAMMPS* lmp, int narg, char** arg)
 
 } // namespace
 
-namespace fracdem {
+namespace fracdem
+{
 
 void register_styles(LAMMPS* lmp)
 {

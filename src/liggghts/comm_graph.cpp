@@ -17,21 +17,23 @@
 
 using namespace LAMMPS_NS;
 
-namespace {
+namespace
+{
 constexpr int kExchangeSlack = 1000; // doubles beyond the per-atom maximum, as the stock comm
-constexpr std::int64_t kMaxCells = std::int64_t(1) << 24; // cover grid size limit
-constexpr int kStencil = 2; // cover cells per ghost cutoff
+constexpr std::int64_t kMaxCells = std::int64_t(1) << 24;      // cover grid size limit
+constexpr int kStencil = 2;                                    // cover cells per ghost cutoff
 constexpr std::int64_t kMaxDenseCells = std::int64_t(1) << 22; // dense cell index up to 32 MB
 } // namespace
 
-CommGraph::CommGraph(LAMMPS *lmp) : Comm(lmp) {}
+CommGraph::CommGraph(LAMMPS* lmp) : Comm(lmp) {}
 
-void CommGraph::enable_graph_ownership(const char *caller)
+void CommGraph::enable_graph_ownership(const char* caller)
 {
   if (graph_mode_) return;
   char msg[512];
   if (domain->triclinic) {
-    snprintf(msg, sizeof msg, "%s: graph ownership needs an orthogonal box (triclinic given)", caller);
+    snprintf(msg, sizeof msg, "%s: graph ownership needs an orthogonal box (triclinic given)",
+             caller);
     error->all(FLERR, msg);
   }
   if (style != 0) { // 0 == SINGLE in the host's comm.cpp
@@ -53,7 +55,7 @@ void CommGraph::enable_graph_ownership(const char *caller)
 void CommGraph::build_swaps()
 {
   shifts_.clear();
-  const int *periodic = domain->periodicity;
+  const int* periodic = domain->periodicity;
   const int zmax = domain->dimension == 3 ? 1 : 0;
   shifts_.push_back({0, 0, 0});
   for (int sz = -zmax; sz <= zmax; ++sz)
@@ -72,7 +74,8 @@ void CommGraph::build_swaps()
       sendproc[iswap] = (me + k) % nprocs;
       recvproc[iswap] = (me - k + nprocs) % nprocs;
       pbc_flag[iswap] = s != 0;
-      for (int d = 0; d < 6; ++d) pbc[iswap][d] = d < 3 ? shifts_[s][d] : 0;
+      for (int d = 0; d < 6; ++d)
+        pbc[iswap][d] = d < 3 ? shifts_[s][d] : 0;
       sendnum[iswap] = recvnum[iswap] = 0;
       size_forward_recv[iswap] = size_reverse_send[iswap] = size_reverse_recv[iswap] = 0;
       firstrecv[iswap] = atom->nlocal;
@@ -113,12 +116,13 @@ void CommGraph::exchange()
   atom->nghost = 0;
   atom->avec->clear_bonus();
 
-  AtomVec *avec = atom->avec;
+  AtomVec* avec = atom->avec;
   int nlocal = atom->nlocal;
   std::vector<int> dest;
   if (!cell_owners_.empty()) {
     dest.resize(nlocal);
-    for (int i = 0; i < nlocal; ++i) dest[i] = cell_owners_[cell_grid_.cell_of(atom->x[i])];
+    for (int i = 0; i < nlocal; ++i)
+      dest[i] = cell_owners_[cell_grid_.cell_of(atom->x[i])];
   } else if (static_cast<int>(pending_dest_.size()) == nlocal) {
     dest.swap(pending_dest_);
   } else {
@@ -126,22 +130,23 @@ void CommGraph::exchange()
   }
   pending_dest_.clear();
 
-  const int *periodic = domain->periodicity;
+  const int* periodic = domain->periodicity;
   const double *lo = domain->boxlo, *hi = domain->boxhi;
   const int per_atom_max = maxexchange_atom + maxexchange_fix + kExchangeSlack;
   out_buf_.resize(nprocs);
-  for (auto &b : out_buf_) b.clear();
+  for (auto& b : out_buf_)
+    b.clear();
 
   int migrated = 0;
   int i = 0;
   while (i < nlocal) {
-    double *xi = atom->x[i];
+    double* xi = atom->x[i];
     bool outside = false;
     for (int d = 0; d < domain->dimension; ++d)
       if (!periodic[d] && (xi[d] < lo[d] || xi[d] >= hi[d])) outside = true;
     if (outside || dest[i] != me) {
       if (!outside) {
-        std::vector<double> &b = out_buf_[dest[i]];
+        std::vector<double>& b = out_buf_[dest[i]];
         const size_t at = b.size();
         b.resize(at + per_atom_max);
         const int n = avec->pack_exchange(i, &b[at]);
@@ -177,7 +182,8 @@ void CommGraph::exchange()
     MPI_Alltoallv(send_all.data(), send_count.data(), send_disp.data(), MPI_DOUBLE, in_buf_.data(),
                   recv_count.data(), recv_disp.data(), MPI_DOUBLE, world);
     int m = 0;
-    while (m < total) m += avec->unpack_exchange(&in_buf_[m]);
+    while (m < total)
+      m += avec->unpack_exchange(&in_buf_[m]);
     if (time_next_migration_) migration_seconds_ += MPI_Wtime() - t_start;
   }
   time_next_migration_ = false;
@@ -194,9 +200,9 @@ void CommGraph::borders()
     Comm::borders();
     return;
   }
-  AtomVec *avec = atom->avec;
+  AtomVec* avec = atom->avec;
   const int nlocal = atom->nlocal;
-  double **x = atom->x;
+  double** x = atom->x;
 
   // Cover of each rank: the cells (edge >= half the ghost cutoff) that hold its owned atoms, plus
   // the cells of its brick when an insertion fix needs to see every particle near the brick. An
@@ -204,7 +210,7 @@ void CommGraph::borders()
   // holds that atom, at most kStencil cells away; sending each atom to the ranks of the cells it is
   // that close to is complete, and over-covers by at most one cell diagonal.
   const double *prd = domain->prd, *boxlo = domain->boxlo;
-  const int *periodic = domain->periodicity;
+  const int* periodic = domain->periodicity;
   const int dim = domain->dimension;
   std::int64_t ncell[3] = {1, 1, 1};
   double cell_size[3] = {prd[0], prd[1], prd[2]};
@@ -221,7 +227,8 @@ void CommGraph::borders()
       if (total <= kMaxCells) break;
       coarsen *= 1.26;
     }
-    for (int d = 0; d < dim; ++d) cell_size[d] = prd[d] / ncell[d];
+    for (int d = 0; d < dim; ++d)
+      cell_size[d] = prd[d] / ncell[d];
   }
   auto cell_coord = [&](double x, int d) {
     std::int64_t c = static_cast<std::int64_t>(std::floor((x - boxlo[d]) / cell_size[d]));
@@ -235,17 +242,30 @@ void CommGraph::borders()
   my_cells.reserve(nlocal);
   for (int i = 0; i < nlocal; ++i) {
     std::int64_t c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
+    for (int d = 0; d < dim; ++d)
+      c[d] = cell_coord(x[i][d], d);
     my_cells.push_back(cell_id(c[0], c[1], c[2]));
   }
   // Bricks of all ranks, when insertion fixes need every particle near the brick they insert
   // into: tested per atom as boxes (cheap), not as cells (a brick can hold very many cells).
   std::vector<double> bricks;
+  int nbox = 0; // boxes per rank: the brick, or its intersections with the cover limits
   if (cover_brick_) {
-    double mine_box[6] = {domain->sublo[0], domain->sublo[1], domain->sublo[2],
-                          domain->subhi[0], domain->subhi[1], domain->subhi[2]};
-    bricks.resize(6 * nprocs);
-    MPI_Allgather(mine_box, 6, MPI_DOUBLE, bricks.data(), 6, MPI_DOUBLE, world);
+    std::vector<double> mine_boxes;
+    const double brick[6] = {domain->sublo[0], domain->sublo[1], domain->sublo[2],
+                             domain->subhi[0], domain->subhi[1], domain->subhi[2]};
+    if (cover_limits_.empty()) {
+      mine_boxes.assign(brick, brick + 6);
+    } else {
+      for (size_t k = 0; k + 5 < cover_limits_.size(); k += 6)
+        for (int d = 0; d < 6; ++d)
+          mine_boxes.push_back(d < 3 ? std::max(brick[d], cover_limits_[k + d])
+                                     : std::min(brick[d], cover_limits_[k + d])); // may be empty
+    }
+    nbox = static_cast<int>(mine_boxes.size() / 6);
+    bricks.resize(mine_boxes.size() * nprocs);
+    MPI_Allgather(mine_boxes.data(), 6 * nbox, MPI_DOUBLE, bricks.data(), 6 * nbox, MPI_DOUBLE,
+                  world);
   }
   std::sort(my_cells.begin(), my_cells.end());
   my_cells.erase(std::unique(my_cells.begin(), my_cells.end()), my_cells.end());
@@ -255,26 +275,31 @@ void CommGraph::borders()
   std::vector<int> counts(nprocs), displs(nprocs);
   MPI_Allgather(&my_count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
   int total = 0;
-  for (int p = 0; p < nprocs; ++p) displs[p] = total, total += counts[p];
+  for (int p = 0; p < nprocs; ++p)
+    displs[p] = total, total += counts[p];
   std::vector<std::int64_t> all_cells(std::max(total, 1));
   MPI_Allgatherv(my_cells.data(), my_count, MPI_INT64_T, all_cells.data(), counts.data(),
                  displs.data(), MPI_INT64_T, world);
   cell_owner_.clear();
   cell_owner_.reserve(total);
   for (int p = 0; p < nprocs; ++p)
-    for (int k = displs[p]; k < displs[p] + counts[p]; ++k) cell_owner_.push_back({all_cells[k], p});
+    for (int k = displs[p]; k < displs[p] + counts[p]; ++k)
+      cell_owner_.push_back({all_cells[k], p});
   std::sort(cell_owner_.begin(), cell_owner_.end());
   // Constant-time lookup of a cell's owners where a dense index fits (the common case).
   const std::int64_t ncells_total = ncell[0] * ncell[1] * ncell[2];
   const bool dense = ncells_total <= kMaxDenseCells;
   if (dense) {
     cell_start_.assign(ncells_total + 1, 0);
-    for (const auto &co : cell_owner_) ++cell_start_[co.first + 1];
-    for (std::int64_t k = 0; k < ncells_total; ++k) cell_start_[k + 1] += cell_start_[k];
+    for (const auto& co : cell_owner_)
+      ++cell_start_[co.first + 1];
+    for (std::int64_t k = 0; k < ncells_total; ++k)
+      cell_start_[k + 1] += cell_start_[k];
   }
 
   const int nshift = static_cast<int>(shifts_.size());
-  for (int iswap = 0; iswap < nswap; ++iswap) sendnum[iswap] = 0;
+  for (int iswap = 0; iswap < nswap; ++iswap)
+    sendnum[iswap] = 0;
   auto shift_index = [&](const int sh[3]) {
     for (int s = 0; s < nshift; ++s)
       if (shifts_[s][0] == sh[0] && shifts_[s][1] == sh[1] && shifts_[s][2] == sh[2]) return s;
@@ -282,9 +307,11 @@ void CommGraph::borders()
   };
   auto owners = [&](std::int64_t id) {
     if (dense)
-      return std::make_pair(cell_owner_.begin() + cell_start_[id], cell_owner_.begin() + cell_start_[id + 1]);
-    return std::equal_range(cell_owner_.begin(), cell_owner_.end(), std::pair<std::int64_t, int>{id, -1},
-                            [](const auto &a, const auto &b) { return a.first < b.first; });
+      return std::make_pair(cell_owner_.begin() + cell_start_[id],
+                            cell_owner_.begin() + cell_start_[id + 1]);
+    return std::equal_range(cell_owner_.begin(), cell_owner_.end(),
+                            std::pair<std::int64_t, int>{id, -1},
+                            [](const auto& a, const auto& b) { return a.first < b.first; });
   };
   const double cut2 = cutghost[0] * cutghost[0];
   const int zr = dim == 3 ? kStencil : 0;
@@ -295,7 +322,8 @@ void CommGraph::borders()
   cands_.clear();
   for (size_t m = 0; m < my_cells.size(); ++m) {
     const std::int64_t id0 = my_cells[m];
-    const std::int64_t c[3] = {id0 % ncell[0], (id0 / ncell[0]) % ncell[1], id0 / (ncell[0] * ncell[1])};
+    const std::int64_t c[3] = {id0 % ncell[0], (id0 / ncell[0]) % ncell[1],
+                               id0 / (ncell[0] * ncell[1])};
     for (int dz = -zr; dz <= zr; ++dz)
       for (int dy = -kStencil; dy <= kStencil; ++dy)
         for (int dx = -kStencil; dx <= kStencil; ++dx) {
@@ -314,7 +342,10 @@ void CommGraph::borders()
               gap2 += gap * gap;
             }
             if (n[d] < 0 || n[d] >= ncell[d]) {
-              if (!periodic[d] || d >= dim || std::abs(off[d]) > ncell[d]) { valid = false; break; }
+              if (!periodic[d] || d >= dim || std::abs(off[d]) > ncell[d]) {
+                valid = false;
+                break;
+              }
               // Across the boundary: the owners there need the image of the atom shifted into
               // their side of the box.
               sh[d] = n[d] < 0 ? 1 : -1;
@@ -338,23 +369,28 @@ void CommGraph::borders()
   std::vector<int> targets; // swap indices this atom goes to, deduplicated
   for (int i = 0; i < nlocal; ++i) {
     std::int64_t c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d) c[d] = cell_coord(x[i][d], d);
+    for (int d = 0; d < dim; ++d)
+      c[d] = cell_coord(x[i][d], d);
     const std::int64_t id = cell_id(c[0], c[1], c[2]);
     const size_t m = std::lower_bound(my_cells.begin(), my_cells.end(), id) - my_cells.begin();
     targets.clear();
     if (cover_brick_) {
       for (int s = 0; s < nshift; ++s) {
         double y[3];
-        for (int d = 0; d < 3; ++d) y[d] = x[i][d] + shifts_[s][d] * prd[d];
-        for (int q = 0; q < nprocs; ++q) {
+        for (int d = 0; d < 3; ++d)
+          y[d] = x[i][d] + shifts_[s][d] * prd[d];
+        for (int qb = 0; qb < nprocs * nbox; ++qb) {
+          const int q = qb / nbox;
           if (q == me && s == 0) continue;
-          const double *b = &bricks[6 * q];
+          const double* b = &bricks[6 * qb];
+          bool empty = false;
           double dist2 = 0;
           for (int d = 0; d < dim; ++d) {
+            if (b[d] > b[3 + d]) empty = true;
             const double gap = std::max({b[d] - y[d], 0.0, y[d] - b[3 + d]});
             dist2 += gap * gap;
           }
-          if (dist2 > cut2) continue;
+          if (empty || dist2 > cut2) continue;
           const int iswap = ((q - me + nprocs) % nprocs) * nshift + s;
           if (std::find(targets.begin(), targets.end(), iswap) == targets.end())
             targets.push_back(iswap);
@@ -363,7 +399,7 @@ void CommGraph::borders()
     }
     if (cand_start_[m] == cand_start_[m + 1] && targets.empty()) continue; // interior
     for (std::int64_t k = cand_start_[m]; k < cand_start_[m + 1]; ++k) {
-      const Candidate &cd = cands_[k];
+      const Candidate& cd = cands_[k];
       double dist2 = 0;
       for (int d = 0; d < dim; ++d) {
         const double gap = std::max({cd.lo[d] - x[i][d], 0.0, x[i][d] - cd.hi[d]});
@@ -388,12 +424,12 @@ void CommGraph::borders()
   for (int iswap = 0; iswap < nswap; ++iswap) {
     const int nsend = sendnum[iswap];
     if (nsend * size_border > maxsend) grow_send(nsend * size_border, 0);
-    const int n = ghost_velocity ? avec->pack_border_vel(nsend, sendlist[iswap], buf_send,
-                                                         pbc_flag[iswap], pbc[iswap])
-                                 : avec->pack_border(nsend, sendlist[iswap], buf_send,
-                                                     pbc_flag[iswap], pbc[iswap]);
+    const int n =
+        ghost_velocity
+            ? avec->pack_border_vel(nsend, sendlist[iswap], buf_send, pbc_flag[iswap], pbc[iswap])
+            : avec->pack_border(nsend, sendlist[iswap], buf_send, pbc_flag[iswap], pbc[iswap]);
     int nrecv = 0;
-    double *buf = buf_send;
+    double* buf = buf_send;
     if (sendproc[iswap] != me) {
       MPI_Sendrecv(&nsend, 1, MPI_INT, sendproc[iswap], 0, &nrecv, 1, MPI_INT, recvproc[iswap], 0,
                    world, MPI_STATUS_IGNORE);
@@ -408,8 +444,10 @@ void CommGraph::borders()
       nrecv = nsend;
     }
     const int first = atom->nlocal + atom->nghost;
-    if (ghost_velocity) avec->unpack_border_vel(nrecv, first, buf);
-    else avec->unpack_border(nrecv, first, buf);
+    if (ghost_velocity)
+      avec->unpack_border_vel(nrecv, first, buf);
+    else
+      avec->unpack_border(nrecv, first, buf);
 
     smax = std::max(smax, nsend);
     rmax = std::max(rmax, nrecv);

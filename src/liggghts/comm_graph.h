@@ -10,7 +10,8 @@
 #include "balance/cell_grid.h"
 #include "comm.h"
 
-namespace LAMMPS_NS {
+namespace LAMMPS_NS
+{
 
 // Drop-in replacement for the stock Comm, installed by the fracdem executable before the input is
 // read. Until graph ownership is switched on it is the stock Comm (every call forwards to the
@@ -27,30 +28,34 @@ namespace LAMMPS_NS {
 // Swaps are arranged as a ring (swap k sends to me+k, receives from me-k) times the periodic image
 // shifts, so the stock
 // forward/reverse communication of atoms, pairs, fixes, computes and dumps works unchanged.
-class CommGraph : public Comm {
- public:
-  explicit CommGraph(class LAMMPS *);
+class CommGraph : public Comm
+{
+public:
+  explicit CommGraph(class LAMMPS*);
 
   void setup() override;
   void exchange() override;
   void borders() override;
 
   // Switches graph ownership on (idempotent). Errors if the scene cannot support it.
-  void enable_graph_ownership(const char *caller);
+  void enable_graph_ownership(const char* caller);
   bool graph_ownership() const { return graph_mode_; }
   // Whether ghosts must also cover the stock brick (insertion fixes check overlaps there).
   void set_cover_brick(bool on) { cover_brick_ = on; }
+  // Restricts that brick cover to these boxes (6 doubles each: lo xyz, hi xyz), e.g. the bounding
+  // boxes of the insertion regions; empty = the whole brick.
+  void set_cover_limits(std::vector<double> boxes) { cover_limits_ = std::move(boxes); }
   // Ownership by cells: from now on every exchange sends each atom to the owner of its cell
   // (owners: one rank per cell of grid). Replaces per-atom destinations.
-  void set_cell_owners(const fracdem::balance::CellGrid &grid, std::vector<int> owners)
+  void set_cell_owners(const fracdem::balance::CellGrid& grid, std::vector<int> owners)
   {
     cell_grid_ = grid;
     cell_owners_ = std::move(owners);
     time_next_migration_ = true;
   }
   bool has_cell_owners() const { return !cell_owners_.empty(); }
-  const fracdem::balance::CellGrid &cell_grid() const { return cell_grid_; }
-  const std::vector<int> &cell_owners() const { return cell_owners_; }
+  const fracdem::balance::CellGrid& cell_grid() const { return cell_grid_; }
+  const std::vector<int>& cell_owners() const { return cell_owners_; }
   // Destination rank of each local atom for the next exchange (size nlocal); consumed by it.
   void set_destinations(std::vector<int> dest)
   {
@@ -60,14 +65,17 @@ class CommGraph : public Comm {
 
   // Statistics of the last exchange/borders in graph mode.
   int last_migrated() const { return last_migrated_; }
-  double migration_seconds() const { return migration_seconds_; } // cumulative, repartition exchanges
+  double migration_seconds() const
+  {
+    return migration_seconds_;
+  } // cumulative, repartition exchanges
 
- private:
+private:
   bool graph_mode_ = false;
   std::vector<int> pending_dest_;
   fracdem::balance::CellGrid cell_grid_;
   std::vector<int> cell_owners_;
-  std::vector<std::array<int, 3>> shifts_;   // periodic image shifts, zero shift first
+  std::vector<std::array<int, 3>> shifts_;               // periodic image shifts, zero shift first
   std::vector<std::pair<std::int64_t, int>> cell_owner_; // (cover cell, rank), sorted
   std::vector<std::int64_t> cell_start_;                 // dense CSR index into cell_owner_
   // A cell near one of mine whose owners need images from my cell: its unwrapped bounds, the
@@ -80,6 +88,7 @@ class CommGraph : public Comm {
   std::vector<Candidate> cands_;
   std::vector<std::int64_t> cand_start_; // per cell of mine (sorted my_cells order)
   bool cover_brick_ = false;
+  std::vector<double> cover_limits_;
   std::vector<std::vector<double>> out_buf_; // exchange buffers per destination
   std::vector<double> in_buf_;
   int last_migrated_ = 0;

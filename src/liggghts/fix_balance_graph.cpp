@@ -23,42 +23,53 @@
 #include "neigh_list.h"
 #include "pair.h"
 #include "primitive_wall.h"
+#include "region.h"
 #include "update.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-namespace {
+namespace
+{
 
-// Sub-models by keyword: one table each, so the parser and the docs list the same names.
-struct GraphModelEntry {
-  const char *name;
-  FixBalanceGraph::GraphModel model;
+// Sub-models by keyword: one table each, so the parser and the error messages list the same names.
+template <typename T> struct KeywordEntry {
+  const char* name;
+  T value;
 };
-const GraphModelEntry kGraphModels[] = {{"apriori", FixBalanceGraph::GraphModel::APriori},
-                                        {"aposteriori", FixBalanceGraph::GraphModel::APosteriori}};
+const KeywordEntry<FixBalanceGraph::GraphModel> kGraphModels[] = {
+    {"apriori", FixBalanceGraph::GraphModel::APriori},
+    {"aposteriori", FixBalanceGraph::GraphModel::APosteriori}};
+const KeywordEntry<FixBalanceGraph::CostModel> kCostModels[] = {
+    {"counts", FixBalanceGraph::CostModel::Counts},
+    {"calibrated", FixBalanceGraph::CostModel::Calibrated},
+    {"timed", FixBalanceGraph::CostModel::Timed}};
+const KeywordEntry<FixBalanceGraph::Strategy> kStrategies[] = {
+    {"auto", FixBalanceGraph::Strategy::Auto},
+    {"refine", FixBalanceGraph::Strategy::Refine},
+    {"scratch", FixBalanceGraph::Strategy::Scratch}};
 
-struct CostModelEntry {
-  const char *name;
-  FixBalanceGraph::CostModel model;
-};
-const CostModelEntry kCostModels[] = {{"counts", FixBalanceGraph::CostModel::Counts},
-                                      {"calibrated", FixBalanceGraph::CostModel::Calibrated},
-                                      {"timed", FixBalanceGraph::CostModel::Timed}};
-
-struct StrategyEntry {
-  const char *name;
-  FixBalanceGraph::Strategy strategy;
-};
-const StrategyEntry kStrategies[] = {{"auto", FixBalanceGraph::Strategy::Auto},
-                                     {"refine", FixBalanceGraph::Strategy::Refine},
-                                     {"scratch", FixBalanceGraph::Strategy::Scratch}};
+// Looks `value` up in a table; on failure `expected` lists the table's names ("a, b or c").
+template <typename T, size_t N>
+bool lookup(const KeywordEntry<T> (&table)[N], const std::string& value, T& out,
+            std::string& expected)
+{
+  for (const auto& e : table)
+    if (value == e.name) {
+      out = e.value;
+      return true;
+    }
+  expected.clear();
+  for (size_t k = 0; k < N; ++k)
+    expected += std::string(k == 0 ? "" : k + 1 == N ? " or " : ", ") + table[k].name;
+  return false;
+}
 
 // Partitioners this build offers; Scotch is named so that asking for it gives a clear answer.
 struct PartitionerEntry {
-  const char *name;
+  const char* name;
   bool available;
-  const char *why_not;
+  const char* why_not;
 };
 const PartitionerEntry kPartitioners[] = {
     {"metis", true, ""},
@@ -82,16 +93,17 @@ constexpr double kWeightResolution = 100.0; // integer vertex weight of a partic
 
 } // namespace
 
-FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
 {
-  auto fail = [&](const std::string &msg) {
+  auto fail = [&](const std::string& msg) {
     error->all(FLERR, ("fix balance/graph: " + msg).c_str());
   };
   if (narg < 5) fail("expected 'fix ID all balance/graph Nevery thresh [keyword value ...]'");
   if (strcmp(arg[1], "all") != 0) fail("group must be 'all' (every particle is balanced)");
-  char *end = nullptr;
+  char* end = nullptr;
   check_every_ = static_cast<int>(strtol(arg[3], &end, 10));
-  if (*end || check_every_ <= 0) fail(std::string("Nevery must be a positive integer, got '") + arg[3] + "'");
+  if (*end || check_every_ <= 0)
+    fail(std::string("Nevery must be a positive integer, got '") + arg[3] + "'");
   threshold_ = strtod(arg[4], &end);
   if (*end || !(threshold_ >= 1.0))
     fail(std::string("thresh must be a number >= 1.0 (max/avg work), got '") + arg[4] + "'");
@@ -100,33 +112,30 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
     const std::string key = arg[iarg];
     if (iarg + 1 >= narg) fail("keyword '" + key + "' needs a value");
     const std::string val = arg[iarg + 1];
+    std::string expected;
     if (key == "model") {
-      bool found = false;
-      for (const auto &e : kGraphModels)
-        if (val == e.name) graph_model_ = e.model, found = true;
-      if (!found) fail("keyword 'model': expected apriori or aposteriori, got '" + val + "'");
+      if (!lookup(kGraphModels, val, graph_model_, expected))
+        fail("keyword 'model': expected " + expected + ", got '" + val + "'");
     } else if (key == "cost") {
-      bool found = false;
-      for (const auto &e : kCostModels)
-        if (val == e.name) cost_model_ = e.model, found = true;
-      if (!found) fail("keyword 'cost': expected counts, calibrated or timed, got '" + val + "'");
+      if (!lookup(kCostModels, val, cost_model_, expected))
+        fail("keyword 'cost': expected " + expected + ", got '" + val + "'");
     } else if (key == "partitioner") {
-      const PartitionerEntry *p = nullptr;
-      for (const auto &e : kPartitioners)
+      const PartitionerEntry* p = nullptr;
+      for (const auto& e : kPartitioners)
         if (val == e.name) p = &e;
       if (!p) fail("keyword 'partitioner': expected metis or scotch, got '" + val + "'");
       if (!p->available) fail("keyword 'partitioner " + val + "': " + p->why_not);
     } else if (key == "repartition") {
-      bool found = false;
-      for (const auto &e : kStrategies)
-        if (val == e.name) strategy_ = e.strategy, found = true;
-      if (!found)
-        fail("keyword 'repartition': expected auto, refine or scratch, got '" + val + "'");
+      if (!lookup(kStrategies, val, strategy_, expected))
+        fail("keyword 'repartition': expected " + expected + ", got '" + val + "'");
+    } else if (key == "insert_region") {
+      insert_regions_.push_back(val);
     } else if (key == "cells") {
       cell_factor_ = strtod(val.c_str(), &end);
       if (*end || !(cell_factor_ == 0.0 || cell_factor_ >= 1.0))
         fail("keyword 'cells': expected 0 (one vertex per particle) or a cell edge >= 1 in ghost "
-             "cutoffs, got '" + val + "'");
+             "cutoffs, got '" +
+             val + "'");
     } else if (key == "out") {
       if (comm->me == 0) {
         out_ = fopen(val.c_str(), "w");
@@ -135,12 +144,13 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
                       "migration_seconds_total,ghost_max_over_avg,ghosts_total,edge_cut,natoms,"
                       "work_max,work_avg,measured_imbalance,cpu_work_max,cpu_work_avg");
         // Per-rank CPU work of each interval, for per-rank work plots.
-        for (int p = 0; p < comm->nprocs; ++p) fprintf(out_, ",cpu_rank%d", p);
+        for (int p = 0; p < comm->nprocs; ++p)
+          fprintf(out_, ",cpu_rank%d", p);
         fputc('\n', out_);
       }
     } else {
       fail("unknown keyword '" + key +
-           "' (expected model, cost, partitioner, repartition, cells or out)");
+           "' (expected model, cost, partitioner, repartition, cells, insert_region or out)");
     }
   }
 
@@ -153,6 +163,9 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   force_reneighbor = 1;
   next_reneighbor = -1;
   restart_global = 1;
+  peratom_flag = 1;
+  size_peratom_cols = 0;
+  peratom_freq = 1;
 
   // Calibrated costs are measured once on rank 0 and shared, so every rank weighs alike.
   costs_ = fracdem::balance::unit_costs();
@@ -185,7 +198,22 @@ FixBalanceGraph::~FixBalanceGraph()
   if (out_) fclose(out_);
 }
 
-int FixBalanceGraph::setmask() { return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | POST_FORCE; }
+int FixBalanceGraph::setmask()
+{
+  return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | POST_FORCE | END_OF_STEP;
+}
+
+// Per-atom output (f_ID in dumps): the owner rank, to see the partition in ParaView.
+void FixBalanceGraph::setup(int)
+{
+  end_of_step();
+}
+
+void FixBalanceGraph::end_of_step()
+{
+  owner_rank_.assign(std::max(atom->nlocal, 1), static_cast<double>(comm->me));
+  vector_atom = owner_rank_.data();
+}
 
 // The measured work brackets neighbour build + pair + earlier post-force fixes with the thread's
 // CPU clock (not wall time: oversubscribed ranks would count their waiting).
@@ -208,12 +236,13 @@ void FixBalanceGraph::post_force(int)
 
 void FixBalanceGraph::init()
 {
-  comm_graph_ = dynamic_cast<CommGraph *>(comm);
+  comm_graph_ = dynamic_cast<CommGraph*>(comm);
   if (!comm_graph_)
     error->all(FLERR, "fix balance/graph: the communicator is the stock one (was 'clear' used?); "
                       "graph ownership needs the fracdem executable's communicator");
-  if (!force->pair) error->all(FLERR, "fix balance/graph: needs a pair style (its neighbour list "
-                                      "is the particle graph)");
+  if (!force->pair)
+    error->all(FLERR, "fix balance/graph: needs a pair style (its neighbour list "
+                      "is the particle graph)");
   if (!atom->radius_flag)
     error->all(FLERR, "fix balance/graph: needs per-atom radius (atom_style sphere or granular)");
 
@@ -221,7 +250,7 @@ void FixBalanceGraph::init()
   fem_bodies_.clear();
   bool inserting = false;
   for (int i = 0; i < modify->nfix; ++i) {
-    Fix *f = modify->fix[i];
+    Fix* f = modify->fix[i];
     // Insertion fixes check overlaps against particles near the brick they insert into.
     if (strncmp(f->style, "insert/", 7) == 0) inserting = true;
     if (strncmp(f->style, "mesh/surface", 12) == 0) {
@@ -233,11 +262,31 @@ void FixBalanceGraph::init()
                f->id, f->style);
       error->all(FLERR, msg);
     }
-    if (auto *w = dynamic_cast<FixWallGran *>(f))
+    if (auto* w = dynamic_cast<FixWallGran*>(f))
       if (!w->is_mesh_wall() && w->primitiveWall()) primitive_walls_.push_back(w);
-    if (auto *b = dynamic_cast<FixFemBody *>(f)) fem_bodies_.push_back(b);
+    if (auto* b = dynamic_cast<FixFemBody*>(f)) fem_bodies_.push_back(b);
   }
   comm_graph_->set_cover_brick(inserting);
+  std::vector<double> limits;
+  for (const std::string& id : insert_regions_) {
+    const int r = domain->find_region(id.c_str());
+    if (r < 0)
+      error->all(FLERR,
+                 ("fix balance/graph: keyword 'insert_region': no region '" + id + "'").c_str());
+    const Region* reg = domain->regions[r];
+    if (!reg->bboxflag)
+      error->all(FLERR, ("fix balance/graph: keyword 'insert_region': region '" + id +
+                         "' has no bounding box")
+                            .c_str());
+    const double box[6] = {reg->extent_xlo, reg->extent_ylo, reg->extent_zlo,
+                           reg->extent_xhi, reg->extent_yhi, reg->extent_zhi};
+    limits.insert(limits.end(), box, box + 6);
+  }
+  if (inserting && limits.empty() && comm->me == 0 && comm->nprocs > 1)
+    error->message(FLERR, "fix balance/graph: an insertion fix is present, so ghosts also cover "
+                          "every rank's whole brick; name the insertion region(s) with "
+                          "'insert_region ID' to cover only those");
+  comm_graph_->set_cover_limits(std::move(limits));
 }
 
 void FixBalanceGraph::setup_pre_exchange()
@@ -292,21 +341,22 @@ void FixBalanceGraph::pre_exchange()
              cpu_sum / comm->nprocs);
     row[strlen(row) - 1] = '\0'; // per-rank columns follow
     fputs(row, out_);
-    for (double w : cpu_per_rank) fprintf(out_, ",%.6g", w);
+    for (double w : cpu_per_rank)
+      fprintf(out_, ",%.6g", w);
     fputc('\n', out_);
     fflush(out_);
   }
 }
 
-void FixBalanceGraph::measure(LocalCosts &lc)
+void FixBalanceGraph::measure(LocalCosts& lc)
 {
   const int nlocal = atom->nlocal;
   lc.cost.assign(nlocal, 0.0);
   lc.potential.assign(nlocal, 0);
   lc.edges.clear();
-  double **x = atom->x;
-  const double *radius = atom->radius;
-  const int *tag = atom->tag;
+  double** x = atom->x;
+  const double* radius = atom->radius;
+  const int* tag = atom->tag;
   const bool aposteriori = graph_model_ == GraphModel::APosteriori;
   // With newton off a pair that straddles two ranks is in both ranks' lists; keep one copy.
   const bool newton = force->newton_pair != 0;
@@ -320,16 +370,17 @@ void FixBalanceGraph::measure(LocalCosts &lc)
                                              cell_factor_ * comm->cutghost[0], domain->dimension,
                                              periodic);
     lc.cell.resize(nlocal);
-    for (int i = 0; i < nlocal; ++i) lc.cell[i] = grid_.cell_of(x[i]);
+    for (int i = 0; i < nlocal; ++i)
+      lc.cell[i] = grid_.cell_of(x[i]);
   }
 
   // Potential targets and sphere-sphere contacts from the host's own list: no second search.
-  NeighList *list = force->pair->list;
+  NeighList* list = force->pair->list;
   if (list && list->ilist) {
     for (int ii = 0; ii < list->inum; ++ii) {
       const int i = list->ilist[ii];
       if (i >= nlocal) continue;
-      const int *jlist = list->firstneigh[i];
+      const int* jlist = list->firstneigh[i];
       const int jnum = list->numneigh[i];
       lc.potential[i] += jnum;
       for (int jj = 0; jj < jnum; ++jj) {
@@ -355,12 +406,13 @@ void FixBalanceGraph::measure(LocalCosts &lc)
   }
 
   // Every particle costs something on its own (list traversal, binning, integration).
-  for (int i = 0; i < nlocal; ++i) lc.cost[i] += costs_.particle;
+  for (int i = 0; i < nlocal; ++i)
+    lc.cost[i] += costs_.particle;
 
   // Primitive walls of fix wall/gran (their work runs outside Pair time): a gap test for every
   // particle, and the contact law for those touching.
-  for (FixWallGran *w : primitive_walls_) {
-    PrimitiveWall *pw = w->primitiveWall();
+  for (FixWallGran* w : primitive_walls_) {
+    PrimitiveWall* pw = w->primitiveWall();
     double delta[3];
     for (int i = 0; i < nlocal; ++i) {
       lc.cost[i] += costs_.wall_check;
@@ -369,31 +421,57 @@ void FixBalanceGraph::measure(LocalCosts &lc)
   }
 
   // Facet checks and contacts of deformable or rigid FE bodies.
-  for (FixFemBody *b : fem_bodies_) {
-    const auto &checks = b->facet_checks();
-    const auto &contacts = b->facet_contacts();
+  for (FixFemBody* b : fem_bodies_) {
+    const auto& checks = b->facet_checks();
+    const auto& contacts = b->facet_contacts();
     if (static_cast<int>(checks.size()) != nlocal) continue; // no contact evaluated yet
     for (int i = 0; i < nlocal; ++i)
       lc.cost[i] += checks[i] * costs_.facet_check + contacts[i] * costs_.facet_contact;
   }
 
   lc.total = 0;
-  for (double c : lc.cost) lc.total += c;
+  for (double c : lc.cost)
+    lc.total += c;
 
   // Measured time replaces the modelled total; the model only splits it among particles.
   if (cost_model_ == CostModel::Timed) {
     const double spent = cpu_work_;
     if (lc.total > 0 && spent > 0) {
       const double scale = spent / lc.total;
-      for (double &c : lc.cost) c *= scale;
+      for (double& c : lc.cost)
+        c *= scale;
       lc.total = spent;
     }
   }
 }
 
-std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Graph &g,
-                                                   const std::vector<int> &old_owner,
-                                                   double stats[2]) const
+FixBalanceGraph::GatheredGraph
+FixBalanceGraph::gather_graph(const std::vector<std::int64_t>& verts,
+                              const std::vector<std::int64_t>& edges) const
+{
+  const int nprocs = comm->nprocs;
+  GatheredGraph gg;
+  int counts[2] = {static_cast<int>(verts.size()), static_cast<int>(edges.size())};
+  std::vector<int> all_counts(2 * nprocs);
+  MPI_Gather(counts, 2, MPI_INT, all_counts.data(), 2, MPI_INT, 0, world);
+  gg.vcount.resize(nprocs), gg.vdisp.resize(nprocs);
+  std::vector<int> ecount(nprocs), edisp(nprocs);
+  for (int p = 0; p < nprocs; ++p) {
+    gg.vcount[p] = all_counts[2 * p], gg.vdisp[p] = gg.vtotal, gg.vtotal += gg.vcount[p];
+    ecount[p] = all_counts[2 * p + 1], edisp[p] = gg.etotal, gg.etotal += ecount[p];
+  }
+  gg.verts.resize(comm->me == 0 ? std::max(gg.vtotal, 1) : 1);
+  gg.edges.resize(comm->me == 0 ? std::max(gg.etotal, 1) : 1);
+  MPI_Gatherv(verts.data(), counts[0], MPI_INT64_T, gg.verts.data(), gg.vcount.data(),
+              gg.vdisp.data(), MPI_INT64_T, 0, world);
+  MPI_Gatherv(edges.data(), counts[1], MPI_INT64_T, gg.edges.data(), ecount.data(), edisp.data(),
+              MPI_INT64_T, 0, world);
+  return gg;
+}
+
+std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Graph& g,
+                                                    const std::vector<int>& old_owner,
+                                                    double stats[2]) const
 {
   namespace fb = fracdem::balance;
   const int nprocs = comm->nprocs;
@@ -403,8 +481,8 @@ std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Grap
   bool refined = false;
   if (strategy_ == Strategy::Refine || (strategy_ == Strategy::Auto && current < kRefineBelow)) {
     part = old_owner;
-    refined =
-        fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <= kRefinePasses;
+    refined = fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <=
+              kRefinePasses;
   }
   if (!refined && strategy_ != Strategy::Refine) {
     // From scratch, then relabelled so that most of the load stays where it is.
@@ -416,7 +494,7 @@ std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Grap
   return part;
 }
 
-void FixBalanceGraph::repartition(const LocalCosts &lc)
+void FixBalanceGraph::repartition(const LocalCosts& lc)
 {
   if (cell_factor_ > 0) {
     repartition_cells(lc);
@@ -441,21 +519,10 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
   }
 
   // Gather the graph on rank 0 (METIS is serial); vertices keep the order of their ranks.
-  int counts[2] = {2 * nlocal, static_cast<int>(lc.edges.size())};
-  std::vector<int> all_counts(2 * nprocs);
-  MPI_Gather(counts, 2, MPI_INT, all_counts.data(), 2, MPI_INT, 0, world);
-  std::vector<int> vcount(nprocs), vdisp(nprocs), ecount(nprocs), edisp(nprocs);
-  int vtotal = 0, etotal = 0;
-  for (int p = 0; p < nprocs; ++p) {
-    vcount[p] = all_counts[2 * p], vdisp[p] = vtotal, vtotal += vcount[p];
-    ecount[p] = all_counts[2 * p + 1], edisp[p] = etotal, etotal += ecount[p];
-  }
-  std::vector<std::int64_t> all_verts(me == 0 ? std::max(vtotal, 1) : 1);
-  std::vector<std::int64_t> all_edges(me == 0 ? std::max(etotal, 1) : 1);
-  MPI_Gatherv(verts.data(), counts[0], MPI_INT64_T, all_verts.data(), vcount.data(), vdisp.data(),
-              MPI_INT64_T, 0, world);
-  MPI_Gatherv(lc.edges.data(), counts[1], MPI_INT64_T, all_edges.data(), ecount.data(),
-              edisp.data(), MPI_INT64_T, 0, world);
+  const GatheredGraph gg = gather_graph(verts, lc.edges);
+  const std::vector<int>&vcount = gg.vcount, &vdisp = gg.vdisp;
+  const std::vector<std::int64_t>&all_verts = gg.verts, &all_edges = gg.edges;
+  const int vtotal = gg.vtotal, etotal = gg.etotal;
 
   std::vector<int> part_all;
   double stats[2] = {1.0, 0.0}; // predicted imbalance, edge cut
@@ -468,7 +535,8 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
     std::vector<std::int64_t> vwgt(n);
     std::vector<int> old_owner(n);
     for (int p = 0; p < nprocs; ++p)
-      for (int k = vdisp[p] / 2; k < (vdisp[p] + vcount[p]) / 2; ++k) old_owner[k] = p;
+      for (int k = vdisp[p] / 2; k < (vdisp[p] + vcount[p]) / 2; ++k)
+        old_owner[k] = p;
     for (std::int64_t v = 0; v < n; ++v) {
       vertex_of_tag[all_verts[2 * v]] = v;
       vwgt[v] = all_verts[2 * v + 1];
@@ -483,7 +551,7 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
     try {
       const fracdem::balance::Graph g = fracdem::balance::build_graph(n, vwgt, pairs);
       part_all = partition_on_root(g, old_owner, stats);
-    } catch (const std::exception &ex) {
+    } catch (const std::exception& ex) {
       failed = 1;
       failure = ex.what();
     }
@@ -491,21 +559,24 @@ void FixBalanceGraph::repartition(const LocalCosts &lc)
   }
   MPI_Bcast(&failed, 1, MPI_INT, 0, world);
   if (failed) {
-    if (me == 0) error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " +
-                                        failure).c_str());
+    if (me == 0)
+      error->warning(
+          FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + failure).c_str());
     return;
   }
   MPI_Bcast(stats, 2, MPI_DOUBLE, 0, world);
 
   std::vector<int> dest(std::max(nlocal, 1));
   std::vector<int> pcount(nprocs), pdisp(nprocs);
-  for (int p = 0; p < nprocs; ++p) pcount[p] = vcount[p] / 2, pdisp[p] = vdisp[p] / 2;
+  for (int p = 0; p < nprocs; ++p)
+    pcount[p] = vcount[p] / 2, pdisp[p] = vdisp[p] / 2;
   MPI_Scatterv(part_all.data(), pcount.data(), pdisp.data(), MPI_INT, dest.data(), nlocal, MPI_INT,
                0, world);
   dest.resize(nlocal);
 
   double migrated = 0;
-  for (int i = 0; i < nlocal; ++i) migrated += dest[i] != me;
+  for (int i = 0; i < nlocal; ++i)
+    migrated += dest[i] != me;
   MPI_Allreduce(MPI_IN_PLACE, &migrated, 1, MPI_DOUBLE, MPI_SUM, world);
 
   comm_graph_->enable_graph_ownership("fix balance/graph");
@@ -528,15 +599,14 @@ void FixBalanceGraph::record_repartition(const double stats[2], double migrated)
              "fix balance/graph: step %ld imbalance %.3f > %.3f: repartitioned (%s%s graph), "
              "predicted %.3f, %.0f particles migrate, edge cut %.0f\n",
              static_cast<long>(update->ntimestep), imbalance_, threshold_,
-             graph_model_ == GraphModel::APriori ? "a priori" : "a posteriori", cell_factor_ > 0 ? " cell" : " particle", stats[0], migrated,
-             stats[1]);
+             graph_model_ == GraphModel::APriori ? "a priori" : "a posteriori",
+             cell_factor_ > 0 ? " cell" : " particle", stats[0], migrated, stats[1]);
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
   }
 }
 
-
-void FixBalanceGraph::repartition_cells(const LocalCosts &lc)
+void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
 {
   const int me = comm->me, nprocs = comm->nprocs;
   const int nlocal = atom->nlocal;
@@ -555,33 +625,25 @@ void FixBalanceGraph::repartition_cells(const LocalCosts &lc)
   }
   std::vector<std::int64_t> verts;
   verts.reserve(2 * cell_weight.size());
-  for (const auto &cw : cell_weight) verts.push_back(cw.first), verts.push_back(cw.second);
+  for (const auto& cw : cell_weight)
+    verts.push_back(cw.first), verts.push_back(cw.second);
   std::unordered_map<std::int64_t, std::int64_t> edge_weight;
   const std::int64_t ncells = grid_.total();
   for (size_t e = 0; e + 2 < lc.edges.size(); e += 3) {
-    const std::int64_t a = std::min(lc.edges[e], lc.edges[e + 1]), b = std::max(lc.edges[e], lc.edges[e + 1]);
+    const std::int64_t a = std::min(lc.edges[e], lc.edges[e + 1]),
+                       b = std::max(lc.edges[e], lc.edges[e + 1]);
     edge_weight[a * ncells + b] += lc.edges[e + 2];
   }
   std::vector<std::int64_t> edges;
   edges.reserve(3 * edge_weight.size());
-  for (const auto &ew : edge_weight)
-    edges.push_back(ew.first / ncells), edges.push_back(ew.first % ncells), edges.push_back(ew.second);
+  for (const auto& ew : edge_weight)
+    edges.push_back(ew.first / ncells), edges.push_back(ew.first % ncells),
+        edges.push_back(ew.second);
 
-  int counts[2] = {static_cast<int>(verts.size()), static_cast<int>(edges.size())};
-  std::vector<int> all_counts(2 * nprocs);
-  MPI_Gather(counts, 2, MPI_INT, all_counts.data(), 2, MPI_INT, 0, world);
-  std::vector<int> vcount(nprocs), vdisp(nprocs), ecount(nprocs), edisp(nprocs);
-  int vtotal = 0, etotal = 0;
-  for (int p = 0; p < nprocs; ++p) {
-    vcount[p] = all_counts[2 * p], vdisp[p] = vtotal, vtotal += vcount[p];
-    ecount[p] = all_counts[2 * p + 1], edisp[p] = etotal, etotal += ecount[p];
-  }
-  std::vector<std::int64_t> all_verts(me == 0 ? std::max(vtotal, 1) : 1);
-  std::vector<std::int64_t> all_edges(me == 0 ? std::max(etotal, 1) : 1);
-  MPI_Gatherv(verts.data(), counts[0], MPI_INT64_T, all_verts.data(), vcount.data(), vdisp.data(),
-              MPI_INT64_T, 0, world);
-  MPI_Gatherv(edges.data(), counts[1], MPI_INT64_T, all_edges.data(), ecount.data(), edisp.data(),
-              MPI_INT64_T, 0, world);
+  const GatheredGraph gg = gather_graph(verts, edges);
+  const std::vector<int>&vcount = gg.vcount, &vdisp = gg.vdisp;
+  const std::vector<std::int64_t>&all_verts = gg.verts, &all_edges = gg.edges;
+  const int etotal = gg.etotal;
 
   std::vector<int> owners(ncells);
   double stats[2] = {1.0, 0.0};
@@ -637,7 +699,7 @@ void FixBalanceGraph::repartition_cells(const LocalCosts &lc)
       const fb::Graph g = fb::build_graph(n, vwgt, pairs);
       const std::vector<int> part = partition_on_root(g, old_owner, stats);
       owners = fb::fill_cell_owners(grid_, cells, part);
-    } catch (const std::exception &ex) {
+    } catch (const std::exception& ex) {
       failed = 1;
       failure = ex.what();
     }
@@ -645,41 +707,56 @@ void FixBalanceGraph::repartition_cells(const LocalCosts &lc)
   MPI_Bcast(&failed, 1, MPI_INT, 0, world);
   if (failed) {
     if (me == 0)
-      error->warning(FLERR,
-                     ("fix balance/graph: partitioning failed, ownership kept: " + failure).c_str());
+      error->warning(
+          FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + failure).c_str());
     return;
   }
   MPI_Bcast(stats, 2, MPI_DOUBLE, 0, world);
   MPI_Bcast(owners.data(), static_cast<int>(ncells), MPI_INT, 0, world);
 
   double migrated = 0;
-  for (int i = 0; i < nlocal; ++i) migrated += owners[lc.cell[i]] != me;
+  for (int i = 0; i < nlocal; ++i)
+    migrated += owners[lc.cell[i]] != me;
   MPI_Allreduce(MPI_IN_PLACE, &migrated, 1, MPI_DOUBLE, MPI_SUM, world);
   comm_graph_->enable_graph_ownership("fix balance/graph");
   comm_graph_->set_cell_owners(grid_, std::move(owners));
   record_repartition(stats, migrated);
 }
 
-double FixBalanceGraph::compute_scalar() { return imbalance_; }
+double FixBalanceGraph::compute_scalar()
+{
+  return imbalance_;
+}
 
 double FixBalanceGraph::compute_vector(int n)
 {
   switch (n) {
-  case 0: return imbalance_before_;
-  case 1: return repartitions_;
-  case 2: return migrated_last_;
-  case 3: return seconds_total_ + (comm_graph_ ? comm_graph_->migration_seconds() : 0.0);
-  case 4: return ghost_ratio_;
-  case 5: return edge_cut_;
-  case 6: return checks_;
-  case 7: return imbalance_predicted_;
-  case 8: return ghosts_total_;
-  case 9: return measured_imbalance_;
-  default: return 0.0;
+  case 0:
+    return imbalance_before_;
+  case 1:
+    return repartitions_;
+  case 2:
+    return migrated_last_;
+  case 3:
+    return seconds_total_ + (comm_graph_ ? comm_graph_->migration_seconds() : 0.0);
+  case 4:
+    return ghost_ratio_;
+  case 5:
+    return edge_cut_;
+  case 6:
+    return checks_;
+  case 7:
+    return imbalance_predicted_;
+  case 8:
+    return ghosts_total_;
+  case 9:
+    return measured_imbalance_;
+  default:
+    return 0.0;
   }
 }
 
-void FixBalanceGraph::write_restart(FILE *fp)
+void FixBalanceGraph::write_restart(FILE* fp)
 {
   if (comm->me != 0) return;
   const double state[6] = {imbalance_before_, repartitions_, migrated_last_,
@@ -689,7 +766,7 @@ void FixBalanceGraph::write_restart(FILE *fp)
   fwrite(state, sizeof(state), 1, fp);
 }
 
-void FixBalanceGraph::restart(char *buf)
+void FixBalanceGraph::restart(char* buf)
 {
   double state[6];
   memcpy(state, buf, sizeof(state));

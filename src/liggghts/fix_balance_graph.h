@@ -1,9 +1,11 @@
-// fix balance/graph: imbalance-triggered graph repartitioning driven by recorded per-particle costs.
+// fix balance/graph: imbalance-triggered graph repartitioning driven by recorded per-particle
+// costs.
 #ifndef FRACDEM_FIX_BALANCE_GRAPH_H
 #define FRACDEM_FIX_BALANCE_GRAPH_H
 
 #include <cstdio>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "balance/cell_grid.h"
@@ -11,36 +13,40 @@
 #include "balance/graph_partition.h"
 #include "fix.h"
 
-namespace LAMMPS_NS {
+namespace LAMMPS_NS
+{
 
-class FixBalanceGraph : public Fix {
- public:
-  FixBalanceGraph(class LAMMPS *, int, char **);
+class FixBalanceGraph : public Fix
+{
+public:
+  FixBalanceGraph(class LAMMPS*, int, char**);
   ~FixBalanceGraph() override;
 
   int setmask() override;
   void init() override;
   void setup_pre_exchange() override;
   void pre_exchange() override;
+  void setup(int) override;
+  void end_of_step() override;
   void pre_neighbor() override;
   void pre_force(int) override;
   void post_force(int) override;
   double compute_scalar() override;
   double compute_vector(int) override;
-  void write_restart(FILE *) override;
-  void restart(char *) override;
+  void write_restart(FILE*) override;
+  void restart(char*) override;
 
   enum class GraphModel { APriori, APosteriori };
   enum class CostModel { Counts, Calibrated, Timed };
   enum class Strategy { Auto, Refine, Scratch };
 
- private:
+private:
   // What one check measured on this rank, per local particle and in total.
   struct LocalCosts {
-    std::vector<double> cost;                   // work model per particle
-    std::vector<std::int64_t> potential;        // potential targets per particle
-    std::vector<std::int64_t> edges;            // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
-    std::vector<std::int64_t> cell;             // cell of each particle (cell graph only)
+    std::vector<double> cost;            // work model per particle
+    std::vector<std::int64_t> potential; // potential targets per particle
+    std::vector<std::int64_t> edges;     // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
+    std::vector<std::int64_t> cell;      // cell of each particle (cell graph only)
     double total = 0;
   };
 
@@ -49,13 +55,14 @@ class FixBalanceGraph : public Fix {
   GraphModel graph_model_ = GraphModel::APosteriori;
   CostModel cost_model_ = CostModel::Timed;
   Strategy strategy_ = Strategy::Auto;
+  std::vector<std::string> insert_regions_; // limit the insertion ghost cover to these
   double cell_factor_ = 2.0; // cell edge in ghost cutoffs; 0 = one vertex per particle
   fracdem::balance::CellGrid grid_;
   fracdem::balance::InteractionCosts costs_;
-  FILE *out_ = nullptr;
-  class CommGraph *comm_graph_ = nullptr;
-  std::vector<class FixWallGran *> primitive_walls_;
-  std::vector<class FixFemBody *> fem_bodies_;
+  FILE* out_ = nullptr;
+  class CommGraph* comm_graph_ = nullptr;
+  std::vector<class FixWallGran*> primitive_walls_;
+  std::vector<class FixFemBody*> fem_bodies_;
   // Thread CPU time of this rank's particle work (neighbour build, pair, and the post-force fixes
   // defined before this one: walls, FE contact) since the last check; the measured work.
   double cpu_work_ = 0, cpu_start_ = 0;
@@ -66,14 +73,23 @@ class FixBalanceGraph : public Fix {
   double repartitions_ = 0, migrated_last_ = 0, seconds_total_ = 0;
   double ghost_ratio_ = 1.0, ghosts_total_ = 0, edge_cut_ = 0, checks_ = 0;
   double measured_imbalance_ = 1.0;
+  std::vector<double> owner_rank_; // per-atom output: the rank that owns the particle
 
-  void measure(LocalCosts &lc);
-  void repartition(const LocalCosts &lc);
-  void repartition_cells(const LocalCosts &lc);
+  void measure(LocalCosts& lc);
+  void repartition(const LocalCosts& lc);
+  void repartition_cells(const LocalCosts& lc);
   void record_repartition(const double stats[2], double migrated);
+  // Vertex and edge arrays of all ranks on rank 0, with each rank's vertex block.
+  struct GatheredGraph {
+    std::vector<std::int64_t> verts, edges;
+    std::vector<int> vcount, vdisp;
+    int vtotal = 0, etotal = 0;
+  };
+  GatheredGraph gather_graph(const std::vector<std::int64_t>& verts,
+                             const std::vector<std::int64_t>& edges) const;
   // Partition of a gathered graph on rank 0: refine from old_owner or METIS from scratch.
-  std::vector<int> partition_on_root(const fracdem::balance::Graph &g,
-                                     const std::vector<int> &old_owner, double stats[2]) const;
+  std::vector<int> partition_on_root(const fracdem::balance::Graph& g,
+                                     const std::vector<int>& old_owner, double stats[2]) const;
   void write_row(bool repartitioned, double partition_seconds);
 };
 

@@ -1,4 +1,5 @@
-// fix fem/body: host adapter that owns a replicated FE body, integrates it and couples it to particles.
+// fix fem/body: host adapter that owns a replicated FE body, integrates it and couples it to
+// particles.
 #include "fix_fem_body.h"
 
 #include <algorithm>
@@ -27,7 +28,8 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-namespace {
+namespace
+{
 
 const char* const kStyle = "fix fem/body";
 
@@ -46,13 +48,15 @@ const std::map<std::string, fracdem::PlaneMode> kPlaneModeTable = {
 };
 
 template <typename T>
-T lookup(Error* error, const std::map<std::string, T>& table, const char* keyword, const char* value)
+T lookup(Error* error, const std::map<std::string, T>& table, const char* keyword,
+         const char* value)
 {
   auto it = table.find(value);
   if (it == table.end()) {
-    std::string msg = std::string(kStyle) + ": keyword '" + keyword + "' got '" + value +
-                      "', expected one of:";
-    for (const auto& kv : table) msg += " " + kv.first;
+    std::string msg =
+        std::string(kStyle) + ": keyword '" + keyword + "' got '" + value + "', expected one of:";
+    for (const auto& kv : table)
+      msg += " " + kv.first;
     error->all(FLERR, msg.c_str());
   }
   return it->second;
@@ -85,7 +89,8 @@ void rotate_about_axis(const double axis_in[3], double angle, const double p[3],
   double c = std::cos(angle), s = std::sin(angle);
   double kdotp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
   double kxp[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]};
-  for (int d = 0; d < 3; ++d) out[d] = p[d] * c + kxp[d] * s + k[d] * kdotp * (1 - c);
+  for (int d = 0; d < 3; ++d)
+    out[d] = p[d] * c + kxp[d] * s + k[d] * kdotp * (1 - c);
 }
 
 } // namespace
@@ -115,7 +120,8 @@ FixFemBody::FixFemBody(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
   grow_arrays(atom->nmax);
   atom->add_callback(0);
   atom->add_callback(1);
-  for (int i = 0; i < atom->nlocal; ++i) set_arrays(i);
+  for (int i = 0; i < atom->nlocal; ++i)
+    set_arrays(i);
 }
 
 FixFemBody::~FixFemBody()
@@ -144,7 +150,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     }
   };
   if (narg < 5 || strcmp(arg[3], "file") != 0)
-    error->all(FLERR, "fix fem/body: expected 'fix ID group fem/body file MESH.msh keyword value ...'");
+    error->all(FLERR,
+               "fix fem/body: expected 'fix ID group fem/body file MESH.msh keyword value ...'");
   mesh_file_ = arg[4];
 
   int iarg = 5;
@@ -180,7 +187,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     } else if (!strcmp(kw, "thickness")) {
       need(iarg, 1, kw, "a value");
       material_.thickness = force->numeric(FLERR, arg[iarg + 1]);
-      if (material_.thickness <= 0) error->all(FLERR, "fix fem/body: keyword 'thickness' must be > 0");
+      if (material_.thickness <= 0)
+        error->all(FLERR, "fix fem/body: keyword 'thickness' must be > 0");
       iarg += 2;
     } else if (!strcmp(kw, "fixed")) {
       need(iarg, 1, kw, "a mesh physical group name");
@@ -190,7 +198,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       need(iarg, 4, kw, "GROUP vx vy vz");
       NodeVelocitySpec s;
       s.set = arg[iarg + 1];
-      for (int d = 0; d < 3; ++d) s.v[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
+      for (int d = 0; d < 3; ++d)
+        s.v[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
       (kw[0] == 'v' ? initial_velocity_ : prescribed_velocity_).push_back(s);
       iarg += 5;
     } else if (!strcmp(kw, "scale")) {
@@ -202,7 +211,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     } else if (!strcmp(kw, "move")) {
       need(iarg, 3, kw, "dx dy dz");
       Transform t{Transform::Move, {0, 0, 0, 0}};
-      for (int d = 0; d < 3; ++d) t.a[d] = force->numeric(FLERR, arg[iarg + 1 + d]);
+      for (int d = 0; d < 3; ++d)
+        t.a[d] = force->numeric(FLERR, arg[iarg + 1 + d]);
       transforms_.push_back(t);
       iarg += 4;
     } else if (!strcmp(kw, "rotate")) {
@@ -210,7 +220,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       if (strcmp(arg[iarg + 1], "axis") || strcmp(arg[iarg + 5], "angle"))
         error->all(FLERR, "fix fem/body: keyword 'rotate' expects 'axis ax ay az angle DEGREES'");
       Transform t{Transform::Rotate, {0, 0, 0, 0}};
-      for (int d = 0; d < 3; ++d) t.a[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
+      for (int d = 0; d < 3; ++d)
+        t.a[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
       t.a[3] = force->numeric(FLERR, arg[iarg + 6]) * M_PI / 180.0;
       transforms_.push_back(t);
       iarg += 7;
@@ -225,14 +236,16 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       if (!strcmp(arg[iarg + 1], "linear")) {
         need(iarg, 4, kw, "linear vx vy vz");
         motion_ = MotionKind::Linear;
-        for (int d = 0; d < 3; ++d) motion_vel_[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
+        for (int d = 0; d < 3; ++d)
+          motion_vel_[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
         iarg += 5;
       } else if (!strcmp(arg[iarg + 1], "rotate")) {
         need(iarg, 10, kw, "rotate origin ox oy oz axis ax ay az period T");
         if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") ||
             strcmp(arg[iarg + 10], "period"))
-          error->all(FLERR, "fix fem/body: keyword 'motion rotate' expects 'origin ox oy oz axis ax "
-                            "ay az period T'");
+          error->all(FLERR,
+                     "fix fem/body: keyword 'motion rotate' expects 'origin ox oy oz axis ax "
+                     "ay az period T'");
         motion_ = MotionKind::Rotate;
         for (int d = 0; d < 3; ++d) {
           motion_origin_[d] = force->numeric(FLERR, arg[iarg + 3 + d]);
@@ -243,7 +256,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
                              motion_axis_[2] * motion_axis_[2]);
         if (n == 0 || motion_period_ == 0)
           error->all(FLERR, "fix fem/body: 'motion rotate' needs a non-zero axis and period");
-        for (double& a : motion_axis_) a /= n;
+        for (double& a : motion_axis_)
+          a /= n;
         iarg += 12;
       } else {
         error->all(FLERR, "fix fem/body: keyword 'motion' expects 'linear' or 'rotate'");
@@ -254,15 +268,21 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 2;
     } else if (!strcmp(kw, "tangential")) {
       need(iarg, 1, kw, "history or no_history");
-      if (!strcmp(arg[iarg + 1], "history")) tangential_history_ = true;
-      else if (!strcmp(arg[iarg + 1], "no_history")) tangential_history_ = false;
-      else error->all(FLERR, "fix fem/body: keyword 'tangential' expects history or no_history");
+      if (!strcmp(arg[iarg + 1], "history"))
+        tangential_history_ = true;
+      else if (!strcmp(arg[iarg + 1], "no_history"))
+        tangential_history_ = false;
+      else
+        error->all(FLERR, "fix fem/body: keyword 'tangential' expects history or no_history");
       iarg += 2;
     } else if (!strcmp(kw, "compliance")) {
       need(iarg, 1, kw, "particle or combined");
-      if (!strcmp(arg[iarg + 1], "particle")) compliance_combined_ = 0;
-      else if (!strcmp(arg[iarg + 1], "combined")) compliance_combined_ = 1;
-      else error->all(FLERR, "fix fem/body: keyword 'compliance' expects particle or combined");
+      if (!strcmp(arg[iarg + 1], "particle"))
+        compliance_combined_ = 0;
+      else if (!strcmp(arg[iarg + 1], "combined"))
+        compliance_combined_ = 1;
+      else
+        error->all(FLERR, "fix fem/body: keyword 'compliance' expects particle or combined");
       iarg += 2;
     } else if (!strcmp(kw, "buffer")) {
       need(iarg, 1, kw, "a distance");
@@ -271,9 +291,12 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 2;
     } else if (!strcmp(kw, "dt_check")) {
       need(iarg, 1, kw, "error or warn");
-      if (!strcmp(arg[iarg + 1], "error")) dt_check_error_ = true;
-      else if (!strcmp(arg[iarg + 1], "warn")) dt_check_error_ = false;
-      else error->all(FLERR, "fix fem/body: keyword 'dt_check' expects error or warn");
+      if (!strcmp(arg[iarg + 1], "error"))
+        dt_check_error_ = true;
+      else if (!strcmp(arg[iarg + 1], "warn"))
+        dt_check_error_ = false;
+      else
+        error->all(FLERR, "fix fem/body: keyword 'dt_check' expects error or warn");
       iarg += 2;
     } else if (!strcmp(kw, "gravity")) {
       need(iarg, 1, kw, "yes or no");
@@ -297,8 +320,10 @@ void FixFemBody::parse_arguments(int narg, char** arg)
   }
 
   if (surface_type_ < 1 || surface_type_ > atom->ntypes) {
-    std::string msg = std::string(kStyle) + ": keyword 'type' is required and must be an atom type "
-                                            "between 1 and " + std::to_string(atom->ntypes);
+    std::string msg = std::string(kStyle) +
+                      ": keyword 'type' is required and must be an atom type "
+                      "between 1 and " +
+                      std::to_string(atom->ntypes);
     error->all(FLERR, msg.c_str());
   }
   if (!rigid_) {
@@ -342,7 +367,8 @@ void FixFemBody::load_mesh()
   try {
     space_.build(mesh_, material_);
   } catch (const std::exception& e) {
-    std::string msg = std::string(kStyle) + " " + id + ": bad mesh '" + mesh_file_ + "': " + e.what();
+    std::string msg =
+        std::string(kStyle) + " " + id + ": bad mesh '" + mesh_file_ + "': " + e.what();
     error->all(FLERR, msg.c_str());
   }
 
@@ -354,18 +380,22 @@ void FixFemBody::load_mesh()
   f_contact_prev_.assign(3 * nn, 0.0);
   space_.lumped_masses(mesh_, mass_);
   inv_mass_.resize(nn);
-  for (int i = 0; i < nn; ++i) inv_mass_[i] = mass_[i] > 0 ? 1.0 / mass_[i] : 0.0;
+  for (int i = 0; i < nn; ++i)
+    inv_mass_[i] = mass_[i] > 0 ? 1.0 / mass_[i] : 0.0;
 
   node_fixed_.assign(nn, 0);
   v_prescribed_.assign(3 * nn, 0.0);
   for (const auto& s : fixed_sets_)
-    for (int n : node_set(s, "fixed")) node_fixed_[n] = 1;
+    for (int n : node_set(s, "fixed"))
+      node_fixed_[n] = 1;
   for (const auto& s : prescribed_velocity_)
     for (int n : node_set(s.set, "prescribed_velocity")) {
       node_fixed_[n] = 2;
-      for (int d = 0; d < 3; ++d) v_prescribed_[3 * n + d] = s.v[d];
+      for (int d = 0; d < 3; ++d)
+        v_prescribed_[3 * n + d] = s.v[d];
     }
-  for (const auto& s : initial_velocity_) node_set(s.set, "velocity"); // validate names now
+  for (const auto& s : initial_velocity_)
+    node_set(s.set, "velocity"); // validate names now
 
   // Split element work evenly; every rank holds the whole body (replicated).
   const int ne = mesh_.num_elems();
@@ -380,8 +410,10 @@ void FixFemBody::load_mesh()
     snprintf(line, sizeof(line),
              "fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s\n", id,
              mesh_file_.c_str(), nn, ne, facets_.size(), rigid_ ? "rigid" : "deformable ",
-             rigid_ ? "" : (material_.kinematics == fracdem::Kinematics::Corotational ? "corotational"
-                                                                                      : "small-strain elastic"));
+             rigid_ ? ""
+                    : (material_.kinematics == fracdem::Kinematics::Corotational
+                           ? "corotational"
+                           : "small-strain elastic"));
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
   }
@@ -391,14 +423,16 @@ std::vector<int> FixFemBody::node_set(const std::string& name, const char* keywo
 {
   if (name == "all") {
     std::vector<int> all(mesh_.num_nodes());
-    for (int i = 0; i < mesh_.num_nodes(); ++i) all[i] = i;
+    for (int i = 0; i < mesh_.num_nodes(); ++i)
+      all[i] = i;
     return all;
   }
   auto it = mesh_.node_sets.find(name);
   if (it == mesh_.node_sets.end()) {
     std::string msg = std::string(kStyle) + ": keyword '" + keyword + "': mesh '" + mesh_file_ +
                       "' has no physical group '" + name + "'; it has:";
-    for (const auto& kv : mesh_.node_sets) msg += " " + kv.first;
+    for (const auto& kv : mesh_.node_sets)
+      msg += " " + kv.first;
     msg += " (and 'all')";
     error->all(FLERR, msg.c_str());
   }
@@ -412,20 +446,24 @@ void FixFemBody::apply_initial_transforms()
     for (int i = 0; i < nn; ++i) {
       double* p = &mesh_.X[3 * i];
       if (t.kind == Transform::Scale) {
-        for (int d = 0; d < 3; ++d) p[d] *= t.a[0];
+        for (int d = 0; d < 3; ++d)
+          p[d] *= t.a[0];
       } else if (t.kind == Transform::Move) {
-        for (int d = 0; d < 3; ++d) p[d] += t.a[d];
+        for (int d = 0; d < 3; ++d)
+          p[d] += t.a[d];
       } else {
         double q[3];
         rotate_about_axis(t.a, t.a[3], p, q);
-        for (int d = 0; d < 3; ++d) p[d] = q[d];
+        for (int d = 0; d < 3; ++d)
+          p[d] = q[d];
       }
     }
   }
   if (mesh_.dim == 2)
     for (int i = 0; i < nn; ++i)
       if (std::fabs(mesh_.X[3 * i + 2]) > 0)
-        error->all(FLERR, "fix fem/body: 2D mesh must stay in the z = 0 plane after 'move'/'rotate'");
+        error->all(FLERR,
+                   "fix fem/body: 2D mesh must stay in the z = 0 plane after 'move'/'rotate'");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -454,8 +492,8 @@ void FixFemBody::read_contact_properties()
   surface_E_ = particle_E_[surface_type_];
   surface_nu_ = particle_nu_[surface_type_];
   if (normal_model_ == fracdem::NormalModel::Hooke) {
-    Fix* cv = modify->find_fix_property("characteristicVelocity", "property/global", "scalar", 0,
-                                        0, style);
+    Fix* cv = modify->find_fix_property("characteristicVelocity", "property/global", "scalar", 0, 0,
+                                        style);
     char_vel_ = static_cast<FixPropertyGlobal*>(cv)->compute_scalar();
   }
 }
@@ -480,12 +518,16 @@ void FixFemBody::init()
                         energy_file_ + "' for writing";
       error->one(FLERR, msg.c_str());
     }
-    fprintf(energy_fp_, "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements\n");
+    fprintf(energy_fp_,
+            "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements\n");
   }
   check_time_step();
 }
 
-void FixFemBody::reset_dt() { check_time_step(); }
+void FixFemBody::reset_dt()
+{
+  check_time_step();
+}
 
 void FixFemBody::check_time_step()
 {
@@ -494,8 +536,9 @@ void FixFemBody::check_time_step()
   const double dt = update->dt;
   if (comm->me == 0) {
     char line[256];
-    snprintf(line, sizeof(line), "fix fem/body %s: stable FE time step %.6g, host time step %.6g (%.1f%%)\n",
-             id, dt_stable_, dt, 100.0 * dt / dt_stable_);
+    snprintf(line, sizeof(line),
+             "fix fem/body %s: stable FE time step %.6g, host time step %.6g (%.1f%%)\n", id,
+             dt_stable_, dt, 100.0 * dt / dt_stable_);
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
   }
@@ -505,8 +548,10 @@ void FixFemBody::check_time_step()
              "fix fem/body %s: host timestep %g exceeds the stable FE time step %g of mesh '%s'; "
              "reduce 'timestep' or coarsen the mesh (keyword 'dt_check warn' runs anyway)",
              id, dt, dt_stable_, mesh_file_.c_str());
-    if (dt_check_error_) error->all(FLERR, msg);
-    else if (comm->me == 0) error->warning(FLERR, msg);
+    if (dt_check_error_)
+      error->all(FLERR, msg);
+    else if (comm->me == 0)
+      error->warning(FLERR, msg);
   }
 }
 
@@ -517,12 +562,15 @@ void FixFemBody::setup(int /*vflag*/)
   if (!initial_velocity_applied_ && !restarted_state_) {
     for (const auto& s : initial_velocity_)
       for (int n : node_set(s.set, "velocity"))
-        for (int d = 0; d < 3; ++d) v_[3 * n + d] = s.v[d];
+        for (int d = 0; d < 3; ++d)
+          v_[3 * n + d] = s.v[d];
     for (int n = 0; n < mesh_.num_nodes(); ++n)
       if (node_fixed_[n] == 1)
-        for (int d = 0; d < 3; ++d) v_[3 * n + d] = 0;
+        for (int d = 0; d < 3; ++d)
+          v_[3 * n + d] = 0;
       else if (node_fixed_[n] == 2)
-        for (int d = 0; d < 3; ++d) v_[3 * n + d] = v_prescribed_[3 * n + d];
+        for (int d = 0; d < 3; ++d)
+          v_[3 * n + d] = v_prescribed_[3 * n + d];
   }
   initial_velocity_applied_ = true;
   if (rigid_) prescribed_motion(time_, x_.data(), v_.data());
@@ -531,7 +579,10 @@ void FixFemBody::setup(int /*vflag*/)
   if (energy_fp_ && update->ntimestep % energy_every_ == 0) write_energy_row();
 }
 
-void FixFemBody::pre_neighbor() { search_stale_ = true; }
+void FixFemBody::pre_neighbor()
+{
+  search_stale_ = true;
+}
 
 /* ----------------------------------------------------------------------
    velocity Verlet, in step with the host: half kick + drift here,
@@ -566,7 +617,10 @@ void FixFemBody::initial_integrate(int /*vflag*/)
   }
 }
 
-void FixFemBody::post_force(int /*vflag*/) { compute_forces(); }
+void FixFemBody::post_force(int /*vflag*/)
+{
+  compute_forces();
+}
 
 void FixFemBody::final_integrate()
 {
@@ -621,8 +675,10 @@ void FixFemBody::compute_forces()
   }
   if (!std::isfinite(strain_energy_)) {
     char msg[256];
-    snprintf(msg, sizeof(msg), "fix fem/body %s: non-finite strain energy at step " BIGINT_FORMAT
-                               " (NaN/Inf in the body state)", id, update->ntimestep);
+    snprintf(msg, sizeof(msg),
+             "fix fem/body %s: non-finite strain energy at step " BIGINT_FORMAT
+             " (NaN/Inf in the body state)",
+             id, update->ntimestep);
     error->all(FLERR, msg);
   }
 
@@ -640,7 +696,8 @@ void FixFemBody::compute_forces()
     }
   }
   if (!rigid_) {
-    const double g2 = gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2];
+    const double g2 =
+        gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2];
     if (g2 > 0)
       for (int n = 0; n < nn; ++n)
         for (int d = 0; d < 3; ++d) {
@@ -656,7 +713,8 @@ void FixFemBody::compute_forces()
   // f_contact_prev_ now holds this step's contact forces; f_contact_ is scratch.
   for (int n = 0; n < nn; ++n)
     if (node_fixed_[n])
-      for (int d = 0; d < 3; ++d) f_[3 * n + d] = 0;
+      for (int d = 0; d < 3; ++d)
+        f_[3 * n + d] = 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -692,7 +750,8 @@ void FixFemBody::rebuild_search()
   search_->build(boxes, search_sphere_.data(), static_cast<int>(search_atoms_.size()));
   std::vector<double> sx(3 * search_atoms_.size());
   for (size_t s = 0; s < search_atoms_.size(); ++s)
-    for (int d = 0; d < 3; ++d) sx[3 * s + d] = search_sphere_[4 * s + d];
+    for (int d = 0; d < 3; ++d)
+      sx[3 * s + d] = search_sphere_[4 * s + d];
   search_->remember_positions(x_.data(), mesh_.num_nodes(), sx.data(),
                               static_cast<int>(search_atoms_.size()));
   search_stale_ = false;
@@ -704,7 +763,8 @@ bool FixFemBody::search_is_stale()
   if (search_stale_) return true;
   std::vector<double> sx(3 * search_atoms_.size());
   for (size_t s = 0; s < search_atoms_.size(); ++s)
-    for (int d = 0; d < 3; ++d) sx[3 * s + d] = atom->x[search_atoms_[s]][d];
+    for (int d = 0; d < 3; ++d)
+      sx[3 * s + d] = atom->x[search_atoms_[s]][d];
   return search_->needs_rebuild(x_.data(), mesh_.num_nodes(), sx.data(),
                                 static_cast<int>(search_atoms_.size()));
 }
@@ -744,7 +804,8 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
       fracdem::FacetHit h;
       h.facet = cand[c].second;
       h.nn = fc.nn;
-      for (int j = 0; j < 3; ++j) h.nodes[j] = fc.n[j];
+      for (int j = 0; j < 3; ++j)
+        h.nodes[j] = fc.n[j];
       if (fc.nn == 3)
         h.cp = fracdem::closest_point_triangle(x[i], &x_[3 * fc.n[0]], &x_[3 * fc.n[1]],
                                                &x_[3 * fc.n[2]]);
@@ -758,7 +819,8 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
     double* hist = history_ ? history_[i] : nullptr;
     if (hits.empty()) {
       if (hist)
-        for (int k = 0; k < nslots_; ++k) hist[k * kSlotDoubles] = hist[k * kSlotDoubles + 1] = -1;
+        for (int k = 0; k < nslots_; ++k)
+          hist[k * kSlotDoubles] = hist[k * kSlotDoubles + 1] = -1;
       continue;
     }
     hits = fracdem::resolve_sphere_hits(std::move(hits), x[i], x_.data(), topology_);
@@ -779,7 +841,8 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
       const double dist = std::sqrt(h.cp.dist2);
       double* nk = &normals_[3 * k];
       if (dist > 1e-12 * r) {
-        for (int d = 0; d < 3; ++d) nk[d] = (x[i][d] - h.cp.p[d]) / dist;
+        for (int d = 0; d < 3; ++d)
+          nk[d] = (x[i][d] - h.cp.p[d]) / dist;
       } else {
         // Centre on the surface: fall back to the facet normal.
         const double* a = &x_[3 * h.nodes[0]];
@@ -798,20 +861,24 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
           nrm[2] = 0;
         }
         const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-        for (int d = 0; d < 3; ++d) nk[d] = nrm[d] / l;
+        for (int d = 0; d < 3; ++d)
+          nk[d] = nrm[d] / l;
       }
       overlaps_[k] = r - dist;
     }
 
     std::fill(touched.begin(), touched.end(), 0);
-    for (const std::vector<int>& cluster : fracdem::cluster_hits(normals_.data(), overlaps_.data(), nh)) {
+    for (const std::vector<int>& cluster :
+         fracdem::cluster_hits(normals_.data(), overlaps_.data(), nh)) {
       // One contact per cluster, evaluated at the deepest hit; its reaction is shared among the
       // cluster's facets in proportion to overlap^1.5 (their Hertz weights).
       const fracdem::FacetHit& lead = hits[cluster[0]];
       double wsum = 0;
-      for (int k : cluster) wsum += std::pow(overlaps_[k], 1.5);
+      for (int k : cluster)
+        wsum += std::pow(overlaps_[k], 1.5);
       fracdem::ContactInput in;
-      for (int d = 0; d < 3; ++d) in.n[d] = normals_[3 * cluster[0] + d];
+      for (int d = 0; d < 3; ++d)
+        in.n[d] = normals_[3 * cluster[0] + d];
       in.delta = overlaps_[cluster[0]];
       in.radius = r;
       in.mass = rmass[i];
@@ -821,7 +888,8 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
         const double share = std::pow(overlaps_[k], 1.5) / wsum;
         const fracdem::FacetHit& h = hits[k];
         for (int j = 0; j < h.nn; ++j)
-          for (int d = 0; d < 3; ++d) vsurf[d] += share * h.cp.w[j] * v_[3 * h.nodes[j] + d];
+          for (int d = 0; d < 3; ++d)
+            vsurf[d] += share * h.cp.w[j] * v_[3 * h.nodes[j] + d];
       }
       for (int d = 0; d < 3; ++d) {
         in.v_rel[d] = v[i][d] - vsurf[d];
@@ -847,7 +915,8 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
         const double share = std::pow(overlaps_[k], 1.5) / wsum;
         const fracdem::FacetHit& h = hits[k];
         for (int j = 0; j < h.nn; ++j)
-          for (int d = 0; d < 3; ++d) f_contact[3 * h.nodes[j] + d] -= share * h.cp.w[j] * out.force[d];
+          for (int d = 0; d < 3; ++d)
+            f_contact[3 * h.nodes[j] + d] -= share * h.cp.w[j] * out.force[d];
       }
       ++ncontacts;
     }
@@ -903,9 +972,11 @@ void FixFemBody::prescribed_motion(double t, double* x, double* v) const
     const double* k = motion_axis_;
     for (int n = 0; n < nn; ++n) {
       double p[3], q[3];
-      for (int d = 0; d < 3; ++d) p[d] = X[3 * n + d] - motion_origin_[d];
+      for (int d = 0; d < 3; ++d)
+        p[d] = X[3 * n + d] - motion_origin_[d];
       rotate_about_axis(k, w * t, p, q);
-      for (int d = 0; d < 3; ++d) x[3 * n + d] = motion_origin_[d] + q[d];
+      for (int d = 0; d < 3; ++d)
+        x[3 * n + d] = motion_origin_[d] + q[d];
       v[3 * n + 0] = w * (k[1] * q[2] - k[2] * q[1]);
       v[3 * n + 1] = w * (k[2] * q[0] - k[0] * q[2]);
       v[3 * n + 2] = w * (k[0] * q[1] - k[1] * q[0]);
@@ -925,36 +996,51 @@ double FixFemBody::kinetic_energy() const
   return ke;
 }
 
-double FixFemBody::compute_scalar() { return kinetic_energy() + strain_energy_; }
+double FixFemBody::compute_scalar()
+{
+  return kinetic_energy() + strain_energy_;
+}
 
 double FixFemBody::compute_vector(int i)
 {
   switch (i) {
-    case kKinetic: return kinetic_energy();
-    case kStrain: return strain_energy_;
-    case kExternalWork: return external_work_;
-    case kContactWork: return contact_work_;
-    case kNodes: return mesh_.num_nodes();
-    case kElements: return mesh_.num_active_elems();
-    case kContacts: return ncontacts_;
-    case kForceX: return contact_force_total_[0];
-    case kForceY: return contact_force_total_[1];
-    case kForceZ: return contact_force_total_[2];
-    case kStableDt: return dt_stable_;
-    case kSearchRebuilds: {
-      double local = nrebuilds_, total = 0;
-      MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
-      return total;
-    }
-    case kMomentumX:
-    case kMomentumY:
-    case kMomentumZ: {
-      if (rigid_) return 0.0;
-      const int d = i - kMomentumX;
-      double p = 0;
-      for (int n = 0; n < mesh_.num_nodes(); ++n) p += mass_[n] * v_[3 * n + d];
-      return p;
-    }
+  case kKinetic:
+    return kinetic_energy();
+  case kStrain:
+    return strain_energy_;
+  case kExternalWork:
+    return external_work_;
+  case kContactWork:
+    return contact_work_;
+  case kNodes:
+    return mesh_.num_nodes();
+  case kElements:
+    return mesh_.num_active_elems();
+  case kContacts:
+    return ncontacts_;
+  case kForceX:
+    return contact_force_total_[0];
+  case kForceY:
+    return contact_force_total_[1];
+  case kForceZ:
+    return contact_force_total_[2];
+  case kStableDt:
+    return dt_stable_;
+  case kSearchRebuilds: {
+    double local = nrebuilds_, total = 0;
+    MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
+    return total;
+  }
+  case kMomentumX:
+  case kMomentumY:
+  case kMomentumZ: {
+    if (rigid_) return 0.0;
+    const int d = i - kMomentumX;
+    double p = 0;
+    for (int n = 0; n < mesh_.num_nodes(); ++n)
+      p += mass_[n] * v_[3 * n + d];
+    return p;
+  }
   }
   return 0.0;
 }
@@ -990,7 +1076,8 @@ void FixFemBody::write_restart(FILE* fp)
   buf.push_back(contact_work_);
   buf.insert(buf.end(), x_.begin(), x_.end());
   buf.insert(buf.end(), v_.begin(), v_.end());
-  for (int e = 0; e < ne; ++e) buf.push_back(mesh_.active[e]);
+  for (int e = 0; e < ne; ++e)
+    buf.push_back(mesh_.active[e]);
   // The host reads the size in bytes, then that many bytes.
   const int nbytes = static_cast<int>(buf.size() * sizeof(double));
   fwrite(&nbytes, sizeof(int), 1, fp);
@@ -1016,7 +1103,8 @@ void FixFemBody::restart(char* raw)
   std::copy(p, p + 3 * nn, x_.begin());
   std::copy(p + 3 * nn, p + 6 * nn, v_.begin());
   p += 6 * nn;
-  for (int e = 0; e < ne; ++e) mesh_.active[e] = p[e] != 0.0;
+  for (int e = 0; e < ne; ++e)
+    mesh_.active[e] = p[e] != 0.0;
   facets_ = fracdem::boundary_facets(mesh_);
   topology_.build(facets_, mesh_.num_nodes());
   restarted_state_ = true;
@@ -1039,7 +1127,8 @@ void FixFemBody::copy_arrays(int i, int j, int)
 
 void FixFemBody::set_arrays(int i)
 {
-  for (int k = 0; k < nslots_ * kSlotDoubles; ++k) history_[i][k] = (k % kSlotDoubles < 2) ? -1 : 0;
+  for (int k = 0; k < nslots_ * kSlotDoubles; ++k)
+    history_[i][k] = (k % kSlotDoubles < 2) ? -1 : 0;
 }
 
 int FixFemBody::pack_exchange(int i, double* buf)
@@ -1068,7 +1157,8 @@ void FixFemBody::unpack_restart(int nlocal, int nth)
 {
   double** extra = atom->extra;
   int m = 0;
-  for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[nlocal][m]);
+  for (int k = 0; k < nth; ++k)
+    m += static_cast<int>(extra[nlocal][m]);
   const int n = static_cast<int>(extra[nlocal][m]) - 1;
   if (n != nslots_ * kSlotDoubles) {
     set_arrays(nlocal);
@@ -1077,8 +1167,14 @@ void FixFemBody::unpack_restart(int nlocal, int nth)
   std::memcpy(history_[nlocal], &extra[nlocal][m + 1], sizeof(double) * n);
 }
 
-int FixFemBody::size_restart(int) { return nslots_ * kSlotDoubles + 1; }
-int FixFemBody::maxsize_restart() { return nslots_ * kSlotDoubles + 1; }
+int FixFemBody::size_restart(int)
+{
+  return nslots_ * kSlotDoubles + 1;
+}
+int FixFemBody::maxsize_restart()
+{
+  return nslots_ * kSlotDoubles + 1;
+}
 
 double FixFemBody::memory_usage()
 {

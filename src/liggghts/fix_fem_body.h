@@ -1,4 +1,5 @@
-// fix fem/body: a deformable (or rigid, prescribed-motion) finite-element body that DEM particles hit.
+// fix fem/body: a deformable (or rigid, prescribed-motion) finite-element body that DEM particles
+// hit.
 #pragma once
 
 #include <cstdint>
@@ -16,9 +17,11 @@
 #include "fem/material.h"
 #include "fem/mesh.h"
 
-namespace LAMMPS_NS {
+namespace LAMMPS_NS
+{
 
-class FixFemBody : public Fix {
+class FixFemBody : public Fix
+{
 public:
   FixFemBody(class LAMMPS*, int, char**);
   ~FixFemBody() override;

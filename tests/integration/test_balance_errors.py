@@ -1,6 +1,7 @@
 """fix balance/graph refuses bad input with a clear error naming the command, keyword and what
 was expected, and refuses fix mesh/surface walls naming the rigid fem/body alternative."""
 import os
+import re
 import tempfile
 
 import harness as h
@@ -24,6 +25,8 @@ cases = [
     ("fix bal all balance/graph 10 1.1 partitioner scotch", "partitioner scotch"),
     ("fix bal all balance/graph 10 1.1 repartition twice", "keyword 'repartition'"),
     ("fix bal all balance/graph 10 1.1 colour red", "unknown keyword 'colour'"),
+    ("fix bal all balance/graph 10 1.1 cells 0.5", "keyword 'cells'"),
+    ("fix bal all balance/graph 10 1.1 insert_region nosuch", "no region 'nosuch'"),
     ("fix bal all balance/graph 10 1.1 model", "keyword 'model' needs a value"),
     ("group lower id <= 10\nfix bal lower balance/graph 10 1.1", "group must be 'all'"),
     ("fix wallmesh all mesh/surface file plate.stl type 1\n"
@@ -37,8 +40,9 @@ for extra, expected in cases:
     # The bed script with the balance fix replaced by the line under test, run for one step.
     with open(os.path.join(wd, "in.balance_bed")) as f:
         text = f.read()
-    text = text.replace('if "${balance} == 1" then &\n  "fix bal all balance/graph ${every} ${thresh} '
-                        'model ${model} cost ${cost} out balance.csv"', extra)
+    fix_block = re.search(r'if "\$\{balance\} == 1" then &\n  "fix bal all balance/graph[^\n]*\n', text)
+    assert fix_block, "in.balance_bed no longer has the balance fix block this test replaces"
+    text = text.replace(fix_block.group(0), extra + "\n")
     text = text.replace('if "${balance} == 1" then "variable fbal equal f_bal[2]"', "")
     with open(os.path.join(wd, "in.case"), "w") as f:
         f.write(text)

@@ -29,7 +29,9 @@ def worst_rel(a, b, names):
 # Two configurations: the a posteriori model with plain counts, and the a priori model with
 # calibrated costs while fix insert/rate/region keeps inserting into the stock bricks.
 CONFIGS = [("aposteriori", dict(model="aposteriori", cost="counts", insert=0)),
-           ("apriori+insert", dict(model="apriori", cost="calibrated", insert=1))]
+           ("apriori+insert", dict(model="apriori", cost="calibrated", insert=1)),
+           ("insert+region cover", dict(model="aposteriori", cost="counts", insert=1,
+                                        cover="insert_region ins"))]
 for np_ in (2, 3):
     for name, cfg in CONFIGS:
         stock, _, _ = run(np_, f"stock_{cfg['model']}", balance=0, insert=cfg["insert"])

@@ -74,3 +74,13 @@ def test_markdown_table_and_plots(tmp_path):
     out2 = tmp_path / "h.png"
     balance.plot_imbalance_history({"m1": ([1, 2], [2.0, 1.0])}, out=str(out2))
     assert out2.stat().st_size > 1000
+
+
+def test_cli_balance(tmp_path):
+    from fracdem import cli
+
+    csv = tmp_path / "balance.csv"
+    make_csv().to_csv(csv, index=False)
+    assert cli.main(["balance", str(csv), "-o", str(tmp_path / "b")]) == 0
+    assert (tmp_path / "b_history.png").stat().st_size > 1000
+    assert (tmp_path / "b_rank_work.png").stat().st_size > 1000

@@ -14,7 +14,8 @@
 
 using namespace fracdem::balance;
 
-namespace {
+namespace
+{
 
 // nx x ny grid graph, unit weights.
 Graph grid_graph(int nx, int ny)
@@ -48,8 +49,16 @@ TEST(BalanceKernels, BuildGraphMergesSymmetrisesAndDropsSelfLoops)
       EXPECT_TRUE(mirrored);
       if ((v == 0 && u == 1) || (v == 1 && u == 0)) EXPECT_EQ(g.adjwgt[k], 5);
     }
+  int64_t total = 0;
+  for (int64_t w : g.adjwgt)
+    total += w;
+  EXPECT_EQ(total, 2 * (2 + 3 + 1)); // every merged weight, counted from both ends
   EXPECT_THROW(build_graph(2, {1, 1}, {{0, 2, 1}}), std::invalid_argument);
+  EXPECT_THROW(build_graph(2, {1, 1}, {{-1, 0, 1}}), std::invalid_argument);
   EXPECT_THROW(build_graph(2, {1}, {}), std::invalid_argument);
+  const Graph lonely = build_graph(2, {3, 4}, {{1, 1, 9}});
+  EXPECT_EQ(lonely.num_edges(), 0);
+  EXPECT_EQ(lonely.xadj, (std::vector<int64_t>{0, 0, 0}));
 }
 
 TEST(BalanceKernels, ImbalanceAnalytic)
@@ -69,8 +78,21 @@ TEST(BalanceKernels, EdgeCutOfGridHalves)
   const int n = 10;
   const Graph g = grid_graph(n, n);
   std::vector<int> part(n * n);
-  for (int v = 0; v < n * n; ++v) part[v] = (v % n) < n / 2 ? 0 : 1; // vertical cut line
+  for (int v = 0; v < n * n; ++v)
+    part[v] = (v % n) < n / 2 ? 0 : 1; // vertical cut line
   EXPECT_EQ(edge_cut(g, part), n);
+  for (int v = 0; v < n * n; ++v)
+    part[v] = (v % n < n / 2) + 2 * (v / n < n / 2); // quadrants: two full lines
+  EXPECT_EQ(edge_cut(g, part), 2 * n);
+
+  // Weighted path 0-1-...-6 with edge (k,k+1) of weight k+1, split after vertex 2 and 4.
+  std::vector<WeightedPair> path;
+  for (int k = 0; k < 6; ++k)
+    path.push_back({k, k + 1, k + 1});
+  const Graph p = build_graph(7, std::vector<int64_t>(7, 1), path);
+  EXPECT_EQ(edge_cut(p, {0, 0, 0, 1, 1, 2, 2}), 3 + 5);
+  EXPECT_EQ(edge_cut(p, std::vector<int>(7, 4)), 0);
+  EXPECT_THROW(edge_cut(p, {0, 1}), std::invalid_argument);
 }
 
 TEST(BalanceKernels, MetisPartitionsGridEvenlyWithShortCuts)
@@ -93,16 +115,51 @@ TEST(BalanceKernels, MetisPartitionsGridEvenlyWithShortCuts)
     EXPECT_EQ(part, partition_kway(g, nparts, 1.02)) << "deterministic";
   }
   EXPECT_EQ(partition_kway(g, 1), std::vector<int>(n * n, 0));
+  EXPECT_TRUE(partition_kway(Graph{{0}, {}, {}, {}}, 4).empty());
+  EXPECT_THROW(partition_kway(g, 0), std::invalid_argument);
+}
+
+TEST(BalanceKernels, MetisScalesHugeWeightsAndSplitsEdgelessGraphs)
+{
+  // Weights far beyond 32-bit idx_t (left half twice the right): scaled by a common factor, so
+  // the balance in the original weights still holds.
+  const int n = 40;
+  const Graph unit = grid_graph(n, n);
+  Graph g = unit;
+  for (int v = 0; v < n * n; ++v)
+    g.vwgt[v] = (v % n < n / 2 ? 2 : 1) * (int64_t(1) << 36);
+  const auto part = partition_kway(g, 4, 1.02);
+  std::vector<double> vload(g.vwgt.begin(), g.vwgt.end());
+  const double max_vertex = *std::max_element(vload.begin(), vload.end());
+  const auto load = part_loads(vload, part, 4);
+  const double avg = std::accumulate(load.begin(), load.end(), 0.0) / 4;
+  EXPECT_LE(*std::max_element(load.begin(), load.end()), 1.02 * avg + max_vertex);
+  EXPECT_EQ(part, partition_kway(g, 4, 1.02));
+
+  // No edges at all: METIS still has to balance the vertex weights.
+  const int m = 101;
+  std::vector<int64_t> w(m);
+  for (int v = 0; v < m; ++v)
+    w[v] = 1 + v % 3;
+  const Graph loose = build_graph(m, w, {});
+  const auto lp = partition_kway(loose, 4, 1.02);
+  ASSERT_EQ(static_cast<int>(lp.size()), m);
+  const auto ll = part_loads(std::vector<double>(w.begin(), w.end()), lp, 4);
+  const double lavg = std::accumulate(ll.begin(), ll.end(), 0.0) / 4;
+  EXPECT_LE(*std::max_element(ll.begin(), ll.end()), 1.02 * lavg + 3);
+  EXPECT_EQ(edge_cut(loose, lp), 0);
 }
 
 TEST(BalanceKernels, RelabelRecoversAPermutationWithoutMigration)
 {
   std::mt19937 rng(3);
   std::vector<int> owner(200);
-  for (auto& o : owner) o = static_cast<int>(rng() % 5);
+  for (auto& o : owner)
+    o = static_cast<int>(rng() % 5);
   const std::vector<int> perm = {3, 0, 4, 1, 2};
   std::vector<int> fresh(owner.size());
-  for (size_t v = 0; v < owner.size(); ++v) fresh[v] = perm[owner[v]];
+  for (size_t v = 0; v < owner.size(); ++v)
+    fresh[v] = perm[owner[v]];
   const std::vector<double> w(owner.size(), 1.0);
   const auto relabelled = relabel_max_overlap(fresh, owner, w, 5);
   EXPECT_EQ(relabelled, owner);
@@ -117,7 +174,9 @@ TEST(BalanceKernels, RelabelMatchesBruteForceOptimum)
     std::vector<int> owner(300), fresh(300);
     std::vector<double> w(300);
     for (int v = 0; v < 300; ++v) {
-      owner[v] = static_cast<int>(rng() % nparts);
+      // About one in ten vertices has no current owner (-1 or nparts): it overlaps nothing.
+      const int r = static_cast<int>(rng() % (10 * nparts));
+      owner[v] = r < 9 * nparts ? r % nparts : (r % 2 ? -1 : nparts);
       fresh[v] = static_cast<int>(rng() % nparts);
       w[v] = 1.0 + (rng() % 7);
     }
@@ -126,14 +185,16 @@ TEST(BalanceKernels, RelabelMatchesBruteForceOptimum)
     double best = 1e300;
     do {
       std::vector<int> relabelled(300);
-      for (int v = 0; v < 300; ++v) relabelled[v] = perm[fresh[v]];
+      for (int v = 0; v < 300; ++v)
+        relabelled[v] = perm[fresh[v]];
       best = std::min(best, migration_weight(owner, relabelled, w));
     } while (std::next_permutation(perm.begin(), perm.end()));
     const auto hung = relabel_max_overlap(fresh, owner, w, nparts);
     EXPECT_DOUBLE_EQ(migration_weight(owner, hung, w), best) << "trial " << trial;
     // The relabelled partition is the same partition (a bijection of labels).
     std::set<std::pair<int, int>> map;
-    for (int v = 0; v < 300; ++v) map.insert({fresh[v], hung[v]});
+    for (int v = 0; v < 300; ++v)
+      map.insert({fresh[v], hung[v]});
     EXPECT_EQ(static_cast<int>(map.size()), nparts);
   }
 }
@@ -142,19 +203,53 @@ TEST(BalanceKernels, BinnedPairsMatchBruteForce)
 {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double lo[3] = {0, 0, 0}, hi[3] = {1.0, 0.8, 0.6};
-  for (int pattern = 0; pattern < 4; ++pattern) {
-    const bool periodic[3] = {(pattern & 1) != 0, (pattern & 2) != 0, pattern == 3};
+  struct Case {
+    double hi[3];
+    bool periodic[3];
+    double outside; // how far atoms may stray beyond the box (periodic images between rebuilds)
+  };
+  // Many bins, every periodicity pattern; then a box of only 2 bins in the periodic x and y, where
+  // the stencil folds onto itself.
+  const std::vector<Case> cases = {{{1.0, 0.8, 0.6}, {false, false, false}, 0.0},
+                                   {{1.0, 0.8, 0.6}, {true, false, false}, 0.0},
+                                   {{1.0, 0.8, 0.6}, {false, true, false}, 0.02},
+                                   {{1.0, 0.8, 0.6}, {true, true, true}, 0.05},
+                                   {{0.15, 0.15, 1.0}, {true, true, false}, 0.02},
+                                   {{0.15, 0.15, 1.0}, {false, true, true}, 0.0}};
+  const double lo[3] = {0, 0, 0};
+  for (size_t c = 0; c < cases.size(); ++c) {
+    const Case& k = cases[c];
     std::vector<double> xyz(3 * 500), rad(500);
     for (int i = 0; i < 500; ++i) {
-      for (int d = 0; d < 3; ++d) xyz[3 * i + d] = lo[d] + (hi[d] - lo[d]) * u(rng);
+      for (int d = 0; d < 3; ++d)
+        xyz[3 * i + d] = -k.outside + (k.hi[d] + 2 * k.outside) * u(rng);
       rad[i] = 0.01 + 0.02 * u(rng);
     }
-    const auto ref = brute_force_pairs(xyz, rad, 0.01, lo, hi, periodic);
-    const auto got = binned_pairs(xyz, rad, 0.01, lo, hi, periodic);
-    EXPECT_GT(ref.size(), 100u);
-    EXPECT_EQ(got, ref) << "periodic pattern " << pattern;
+    const auto ref = brute_force_pairs(xyz, rad, 0.01, lo, k.hi, k.periodic);
+    const auto got = binned_pairs(xyz, rad, 0.01, lo, k.hi, k.periodic);
+    EXPECT_GT(ref.size(), 100u) << "case " << c;
+    EXPECT_EQ(got, ref) << "case " << c;
   }
+
+  // Reach tiny against the box: far more bins fit than atoms, so the bins are coarsened. Atoms
+  // come in close couples (some within reach, some not), scattered through a periodic box.
+  const double hi[3] = {1, 1, 1};
+  const bool per[3] = {true, true, true};
+  std::vector<double> xyz(3 * 400), rad(400);
+  for (int i = 0; i < 400; i += 2) {
+    for (int d = 0; d < 3; ++d) {
+      xyz[3 * i + d] = u(rng);
+      xyz[3 * (i + 1) + d] = xyz[3 * i + d] + 0.003 * u(rng);
+    }
+    rad[i] = 0.001 + 0.001 * u(rng);
+    rad[i + 1] = 0.001 + 0.001 * u(rng);
+  }
+  const auto ref = brute_force_pairs(xyz, rad, 0.001, lo, hi, per);
+  EXPECT_GT(ref.size(), 50u);
+  EXPECT_LT(ref.size(), 200u);
+  EXPECT_EQ(binned_pairs(xyz, rad, 0.001, lo, hi, per), ref);
+  EXPECT_TRUE(binned_pairs({}, {}, 0.1, lo, hi, per).empty());
+  EXPECT_THROW(binned_pairs({0, 0}, {1}, 0.1, lo, hi, per), std::invalid_argument);
 }
 
 TEST(BalanceKernels, CalibratedCostsArePositiveAndContactsCostMoreThanChecks)
@@ -180,7 +275,8 @@ TEST(BalanceKernels, RefinementBalancesWithLittleMigration)
   const int passes = refine_partition(g, part, 4, 1.02, 200);
   EXPECT_LE(passes, 200) << "reached balance";
   std::vector<double> load(4, 0);
-  for (int p : part) load[p] += 1;
+  for (int p : part)
+    load[p] += 1;
   EXPECT_LE(imbalance(load), 1.02 + 1e-9);
   // The excess of part 0 is 0.15 of all vertices; diffusion moves it one strip at a time, so
   // migration is a few times that, far below a partition from scratch.
@@ -191,7 +287,8 @@ TEST(BalanceKernels, RefinementBalancesWithLittleMigration)
   EXPECT_LT(migrated, migration_weight(before, scratch, w) + 1e-9);
   // Balanced input stays untouched.
   std::vector<int> even(n * n);
-  for (int v = 0; v < n * n; ++v) even[v] = (v % n) / 10;
+  for (int v = 0; v < n * n; ++v)
+    even[v] = (v % n) / 10;
   const std::vector<int> even_before = even;
   EXPECT_EQ(refine_partition(g, even, 4, 1.02), 0);
   EXPECT_EQ(even, even_before);
@@ -205,7 +302,8 @@ TEST(BalanceKernels, CellGridMapsPointsAndFillsOwnersByDistance)
   EXPECT_EQ(g.n[0], 10);
   EXPECT_EQ(g.n[1], 5);
   EXPECT_EQ(g.n[2], 2);
-  const double inside[3] = {0.55, 0.12, 0.2}, wrapped[3] = {-0.05, 0.12, 0.2}, beyond[3] = {0.5, 9.0, -1};
+  const double inside[3] = {0.55, 0.12, 0.2}, wrapped[3] = {-0.05, 0.12, 0.2},
+               beyond[3] = {0.5, 9.0, -1};
   int64_t c[3];
   g.coords(g.cell_of(inside), c);
   EXPECT_EQ(c[0], 5);

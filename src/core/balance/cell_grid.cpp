@@ -4,7 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-namespace fracdem::balance {
+namespace fracdem::balance
+{
 
 int64_t CellGrid::cell_of(const double x[3]) const
 {

@@ -5,7 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-namespace fracdem::balance {
+namespace fracdem::balance
+{
 
 struct CellGrid {
   double lo[3] = {0, 0, 0};

@@ -9,11 +9,16 @@
 #include "contact/geometry.h"
 #include "contact/granular_law.h"
 
-namespace fracdem::balance {
+namespace fracdem::balance
+{
 
-InteractionCosts unit_costs() { return InteractionCosts{}; }
+InteractionCosts unit_costs()
+{
+  return InteractionCosts{};
+}
 
-namespace {
+namespace
+{
 
 using Clock = std::chrono::steady_clock;
 
@@ -35,11 +40,13 @@ Scene make_scene()
   s.v.resize(3 * s.n);
   s.r.resize(s.n);
   for (int i = 0; i < s.n; ++i) {
-    for (int d = 0; d < 3; ++d) s.x[3 * i + d] = 16.0 * u(rng), s.v[3 * i + d] = u(rng) - 0.5;
+    for (int d = 0; d < 3; ++d)
+      s.x[3 * i + d] = 16.0 * u(rng), s.v[3 * i + d] = u(rng) - 0.5;
     s.r[i] = 0.5;
   }
   s.nbr.resize(static_cast<size_t>(s.n) * s.per);
-  for (auto& j : s.nbr) j = static_cast<int>(rng() % s.n);
+  for (auto& j : s.nbr)
+    j = static_cast<int>(rng() % s.n);
   return s;
 }
 
@@ -49,9 +56,11 @@ __attribute__((noinline)) double contact_law(const ContactMaterial& mat, const d
 {
   ContactInput in{};
   double d[3], r2 = 0;
-  for (int k = 0; k < 3; ++k) d[k] = xi[k] - xj[k], r2 += d[k] * d[k];
+  for (int k = 0; k < 3; ++k)
+    d[k] = xi[k] - xj[k], r2 += d[k] * d[k];
   const double dist = std::sqrt(r2) + 1e-12;
-  for (int k = 0; k < 3; ++k) in.n[k] = d[k] / dist;
+  for (int k = 0; k < 3; ++k)
+    in.n[k] = d[k] / dist;
   in.delta = std::fabs(radsum - dist) * 1e-3 + 1e-6;
   in.radius = 0.5;
   in.mass = 1.0;
@@ -97,7 +106,8 @@ InteractionCosts calibrate_costs(double seconds_budget)
         const int j = s.nbr[static_cast<size_t>(i) * s.per + k];
         const double* xj = &s.x[3 * j];
         const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-        if (dx * dx + dy * dy + dz * dz < radsum * radsum) acc += contact_law(mat, xi, xj, radsum, s.shear);
+        if (dx * dx + dy * dy + dz * dz < radsum * radsum)
+          acc += contact_law(mat, xi, xj, radsum, s.shear);
       }
     }
     sink = sink + acc;
@@ -109,7 +119,8 @@ InteractionCosts calibrate_costs(double seconds_budget)
   const double t_particle = seconds_per_item(
       [&] {
         for (int i = 0; i < s.n; ++i)
-          for (int d = 0; d < 3; ++d) s.x[3 * i + d] += 1e-9 * s.v[3 * i + d];
+          for (int d = 0; d < 3; ++d)
+            s.x[3 * i + d] += 1e-9 * s.v[3 * i + d];
         sink = sink + s.x[7];
       },
       s.n, budget);
@@ -127,7 +138,8 @@ InteractionCosts calibrate_costs(double seconds_budget)
     }
     sink = sink + acc;
   };
-  const double t_wall_check = seconds_per_item([&] { wall_sweep(-1e9); }, s.n, budget); // no particle below
+  const double t_wall_check =
+      seconds_per_item([&] { wall_sweep(-1e9); }, s.n, budget); // no particle below
   const double t_wall_all = seconds_per_item([&] { wall_sweep(1e9); }, s.n, budget);
 
   // Facet: closest point on a triangle, then the law.
@@ -135,7 +147,8 @@ InteractionCosts calibrate_costs(double seconds_budget)
   const double t_facet_check = seconds_per_item(
       [&] {
         double acc = 0;
-        for (int i = 0; i < s.n; ++i) acc += closest_point_triangle(&s.x[3 * i], a, b, c).dist2;
+        for (int i = 0; i < s.n; ++i)
+          acc += closest_point_triangle(&s.x[3 * i], a, b, c).dist2;
         sink = sink + acc;
       },
       s.n, budget);

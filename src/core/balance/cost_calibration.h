@@ -2,14 +2,16 @@
 #ifndef FRACDEM_BALANCE_COST_CALIBRATION_H
 #define FRACDEM_BALANCE_COST_CALIBRATION_H
 
-namespace fracdem::balance {
+namespace fracdem::balance
+{
 
 // Work per particle is modelled as a sum over what the step did for it (paper section 5.1): a
-// fixed per-particle part, a gap test per primitive wall, potential pairs checked, sphere-sphere contacts resolved, primitive-wall contacts, facet
-// checks and facet contacts of deformable bodies. Costs are relative to one pair check.
+// fixed per-particle part, a gap test per primitive wall, potential pairs checked, sphere-sphere
+// contacts resolved, primitive-wall contacts, facet checks and facet contacts of deformable bodies.
+// Costs are relative to one pair check.
 struct InteractionCosts {
-  double particle = 1.0;     // per particle and step: integration, binning, list traversal
-  double wall_check = 1.0;   // per particle and primitive wall: the gap test
+  double particle = 1.0;   // per particle and step: integration, binning, list traversal
+  double wall_check = 1.0; // per particle and primitive wall: the gap test
   double pair_check = 1.0;
   double sphere_contact = 1.0;
   double wall_contact = 1.0;

@@ -10,7 +10,8 @@
 #include <stdexcept>
 #include <string>
 
-namespace fracdem::balance {
+namespace fracdem::balance
+{
 
 Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
                   const std::vector<WeightedPair>& pairs)
@@ -34,8 +35,11 @@ Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
   });
   Graph g;
   g.xadj.assign(n + 1, 0);
+  g.adjncy.reserve(dir.size());
+  g.adjwgt.reserve(dir.size());
   g.vwgt.resize(n);
-  for (int64_t v = 0; v < n; ++v) g.vwgt[v] = std::max<int64_t>(1, vertex_weight[v]);
+  for (int64_t v = 0; v < n; ++v)
+    g.vwgt[v] = std::max<int64_t>(1, vertex_weight[v]);
   for (size_t k = 0; k < dir.size(); ++k) {
     if (k > 0 && dir[k].i == dir[k - 1].i && dir[k].j == dir[k - 1].j) {
       g.adjwgt.back() += dir[k].w;
@@ -45,7 +49,8 @@ Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
     g.adjwgt.push_back(dir[k].w);
     ++g.xadj[dir[k].i + 1];
   }
-  for (int64_t v = 0; v < n; ++v) g.xadj[v + 1] += g.xadj[v];
+  for (int64_t v = 0; v < n; ++v)
+    g.xadj[v + 1] += g.xadj[v];
   return g;
 }
 
@@ -69,6 +74,8 @@ std::vector<double> part_loads(const std::vector<double>& vertex_load, const std
 
 int64_t edge_cut(const Graph& g, const std::vector<int>& part)
 {
+  if (static_cast<int64_t>(part.size()) != g.num_vertices())
+    throw std::invalid_argument("edge_cut: need one part per vertex");
   int64_t cut = 0;
   for (int64_t v = 0; v < g.num_vertices(); ++v)
     for (int64_t k = g.xadj[v]; k < g.xadj[v + 1]; ++k)
@@ -76,7 +83,8 @@ int64_t edge_cut(const Graph& g, const std::vector<int>& part)
   return cut / 2; // each cut edge was seen from both ends
 }
 
-namespace {
+namespace
+{
 
 template <typename T> idx_t to_idx(T v)
 {
@@ -85,15 +93,23 @@ template <typename T> idx_t to_idx(T v)
   return static_cast<idx_t>(v);
 }
 
-// Divides all weights by a common factor if their sum would overflow idx_t inside METIS.
+// METIS sums weights in idx_t: a common factor brings the total under ~2^30 (half the range,
+// headroom for its internal sums) while keeping ratios and every weight >= 1.
 std::vector<idx_t> scaled_weights(const std::vector<int64_t>& w)
 {
+  const double limit = static_cast<double>(int64_t(1) << 30);
   const double total = std::accumulate(w.begin(), w.end(), 0.0);
-  const double limit = static_cast<double>(std::numeric_limits<idx_t>::max()) / 4;
   const double factor = total > limit ? total / limit : 1.0;
   std::vector<idx_t> out(w.size());
-  for (size_t k = 0; k < w.size(); ++k)
-    out[k] = std::max<idx_t>(1, static_cast<idx_t>(std::llround(static_cast<double>(w[k]) / factor)));
+  int64_t sum = 0;
+  for (size_t k = 0; k < w.size(); ++k) {
+    out[k] = static_cast<idx_t>(std::max<int64_t>(
+        1, std::llround(static_cast<double>(std::max<int64_t>(w[k], 1)) / factor)));
+    sum += out[k];
+  }
+  // Only reachable when the clamp to 1 dominates, i.e. more than ~2^30 entries.
+  if (sum > std::numeric_limits<idx_t>::max() / 2)
+    throw std::overflow_error("partition_kway: weights do not fit METIS idx_t");
   return out;
 }
 
@@ -102,19 +118,27 @@ std::vector<idx_t> scaled_weights(const std::vector<int64_t>& w)
 std::vector<int> partition_kway(const Graph& g, int nparts, double ubfactor)
 {
   const int64_t n = g.num_vertices();
+  if (nparts < 1) throw std::invalid_argument("partition_kway: nparts must be >= 1");
+  if (static_cast<int64_t>(g.vwgt.size()) != n || g.adjwgt.size() != g.adjncy.size() ||
+      (n > 0 && g.xadj.back() != static_cast<int64_t>(g.adjncy.size())))
+    throw std::invalid_argument("partition_kway: inconsistent CSR arrays");
   if (n == 0) return {};
-  if (nparts <= 1) return std::vector<int>(n, 0);
+  if (nparts == 1) return std::vector<int>(n, 0);
   idx_t nvtxs = to_idx(n), ncon = 1, np = nparts, objval = 0;
   std::vector<idx_t> xadj(g.xadj.size()), adjncy(g.adjncy.size());
-  for (size_t k = 0; k < xadj.size(); ++k) xadj[k] = to_idx(g.xadj[k]);
-  for (size_t k = 0; k < adjncy.size(); ++k) adjncy[k] = static_cast<idx_t>(g.adjncy[k]);
+  for (size_t k = 0; k < xadj.size(); ++k)
+    xadj[k] = to_idx(g.xadj[k]);
+  for (size_t k = 0; k < adjncy.size(); ++k)
+    adjncy[k] = static_cast<idx_t>(g.adjncy[k]);
   std::vector<idx_t> vwgt = scaled_weights(g.vwgt), adjwgt = scaled_weights(g.adjwgt);
   std::vector<idx_t> part(n, 0);
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
   options[METIS_OPTION_SEED] = 7;
   options[METIS_OPTION_CONTIG] = 0;
-  options[METIS_OPTION_UFACTOR] = std::max<idx_t>(1, static_cast<idx_t>(std::lround((ubfactor - 1.0) * 1000)));
+  // UFACTOR 0 leaves METIS no room to move vertices during refinement: keep at least 0.1 %.
+  options[METIS_OPTION_UFACTOR] =
+      std::max<idx_t>(1, static_cast<idx_t>(std::lround((ubfactor - 1.0) * 1000)));
   // METIS rejects an empty adjacency array pointer on some versions: give it a valid one.
   idx_t dummy = 0;
   idx_t* adj = adjncy.empty() ? &dummy : adjncy.data();
@@ -172,7 +196,8 @@ int refine_partition(const Graph& g, std::vector<int>& part, int nparts, double 
         const double gain = conn[p] - conn[from];
         if (gain > best_gain) best_gain = gain, best = p;
       }
-      for (int p : touched) conn[p] = 0.0;
+      for (int p : touched)
+        conn[p] = 0.0;
       if (best >= 0) moves.push_back({best_gain, v, best});
     }
     if (moves.empty()) break;
@@ -197,7 +222,8 @@ int refine_partition(const Graph& g, std::vector<int>& part, int nparts, double 
   return *std::max_element(load.begin(), load.end()) <= limit ? pass : max_passes + 1;
 }
 
-namespace {
+namespace
+{
 
 // Hungarian algorithm (potentials, O(n^3)) for a square cost matrix: row r -> column assign[r].
 std::vector<int> hungarian_min(const std::vector<double>& cost, int n)
@@ -223,8 +249,10 @@ std::vector<int> hungarian_min(const std::vector<double>& cost, int n)
           if (minv[j] < delta) delta = minv[j], j1 = j;
         }
       for (int j = 0; j <= n; ++j)
-        if (used[j]) u[p[j]] += delta, v[j] -= delta;
-        else minv[j] -= delta;
+        if (used[j])
+          u[p[j]] += delta, v[j] -= delta;
+        else
+          minv[j] -= delta;
       j0 = j1;
     } while (p[j0] != 0);
     do {
@@ -234,7 +262,8 @@ std::vector<int> hungarian_min(const std::vector<double>& cost, int n)
     } while (j0);
   }
   std::vector<int> assign(n);
-  for (int j = 1; j <= n; ++j) assign[p[j] - 1] = j - 1;
+  for (int j = 1; j <= n; ++j)
+    assign[p[j] - 1] = j - 1;
   return assign;
 }
 
@@ -253,7 +282,8 @@ std::vector<int> relabel_max_overlap(const std::vector<int>& new_part,
     overlap[static_cast<size_t>(a) * nparts + b] +=
         v < vertex_migration_weight.size() ? vertex_migration_weight[v] : 1.0;
   }
-  for (double& o : overlap) o = -o; // maximise overlap = minimise its negative
+  for (double& o : overlap)
+    o = -o; // maximise overlap = minimise its negative
   const std::vector<int> label = hungarian_min(overlap, nparts);
   std::vector<int> out(new_part.size());
   for (size_t v = 0; v < new_part.size(); ++v)
@@ -266,11 +296,13 @@ double migration_weight(const std::vector<int>& from, const std::vector<int>& to
 {
   double w = 0;
   for (size_t v = 0; v < from.size() && v < to.size(); ++v)
-    if (from[v] != to[v]) w += v < vertex_migration_weight.size() ? vertex_migration_weight[v] : 1.0;
+    if (from[v] != to[v])
+      w += v < vertex_migration_weight.size() ? vertex_migration_weight[v] : 1.0;
   return w;
 }
 
-namespace {
+namespace
+{
 
 double min_image(double d, int dim, const double lo[3], const double hi[3], const bool per[3])
 {
@@ -279,81 +311,133 @@ double min_image(double d, int dim, const double lo[3], const double hi[3], cons
   return d - L * std::round(d / L);
 }
 
+// The one predicate both searches use, so that they agree bit for bit on borderline pairs.
+inline bool within_reach(const double* xyz, const double* radius, double skin, int64_t i, int64_t j,
+                         const double lo[3], const double hi[3], const bool per[3])
+{
+  double r2 = 0;
+  for (int d = 0; d < 3; ++d) {
+    const double dd = min_image(xyz[3 * i + d] - xyz[3 * j + d], d, lo, hi, per);
+    r2 += dd * dd;
+  }
+  const double reach = radius[i] + radius[j] + skin;
+  return r2 < reach * reach;
+}
+
+int64_t sphere_count(const std::vector<double>& xyz, const std::vector<double>& radius)
+{
+  if (xyz.size() != 3 * radius.size())
+    throw std::invalid_argument("pair search: xyz must hold 3 coordinates per radius");
+  return static_cast<int64_t>(radius.size());
+}
+
 } // namespace
 
-std::vector<std::pair<int64_t, int64_t>> brute_force_pairs(const std::vector<double>& xyz,
-                                                           const std::vector<double>& radius,
-                                                           double skin, const double box_lo[3],
-                                                           const double box_hi[3],
-                                                           const bool periodic[3])
+std::vector<std::pair<int64_t, int64_t>>
+brute_force_pairs(const std::vector<double>& xyz, const std::vector<double>& radius, double skin,
+                  const double box_lo[3], const double box_hi[3], const bool periodic[3])
 {
-  const int64_t n = static_cast<int64_t>(radius.size());
+  const int64_t n = sphere_count(xyz, radius);
   std::vector<std::pair<int64_t, int64_t>> out;
   for (int64_t i = 0; i < n; ++i)
-    for (int64_t j = i + 1; j < n; ++j) {
-      double r2 = 0;
-      for (int d = 0; d < 3; ++d) {
-        const double dd = min_image(xyz[3 * i + d] - xyz[3 * j + d], d, box_lo, box_hi, periodic);
-        r2 += dd * dd;
-      }
-      const double c = radius[i] + radius[j] + skin;
-      if (r2 < c * c) out.emplace_back(i, j);
-    }
+    for (int64_t j = i + 1; j < n; ++j)
+      if (within_reach(xyz.data(), radius.data(), skin, i, j, box_lo, box_hi, periodic))
+        out.emplace_back(i, j);
   return out;
 }
 
-std::vector<std::pair<int64_t, int64_t>> binned_pairs(const std::vector<double>& xyz,
-                                                      const std::vector<double>& radius, double skin,
-                                                      const double box_lo[3],
-                                                      const double box_hi[3],
-                                                      const bool periodic[3])
+std::vector<std::pair<int64_t, int64_t>>
+binned_pairs(const std::vector<double>& xyz, const std::vector<double>& radius, double skin,
+             const double box_lo[3], const double box_hi[3], const bool periodic[3])
 {
-  const int64_t n = static_cast<int64_t>(radius.size());
+  const int64_t n = sphere_count(xyz, radius);
   std::vector<std::pair<int64_t, int64_t>> out;
-  if (n == 0) return out;
-  const double rmax = *std::max_element(radius.begin(), radius.end());
-  const double cell = 2 * rmax + skin;
-  int nb[3];
-  for (int d = 0; d < 3; ++d) nb[d] = std::max(1, static_cast<int>((box_hi[d] - box_lo[d]) / cell));
-  auto bin_of = [&](int64_t i, int d) {
-    const double L = box_hi[d] - box_lo[d];
-    int b = static_cast<int>((xyz[3 * i + d] - box_lo[d]) / L * nb[d]);
-    return std::min(std::max(b, 0), nb[d] - 1);
-  };
-  std::vector<std::vector<int64_t>> bins(static_cast<size_t>(nb[0]) * nb[1] * nb[2]);
-  for (int64_t i = 0; i < n; ++i)
-    bins[(static_cast<size_t>(bin_of(i, 2)) * nb[1] + bin_of(i, 1)) * nb[0] + bin_of(i, 0)].push_back(i);
-  for (int64_t i = 0; i < n; ++i) {
-    const int b[3] = {bin_of(i, 0), bin_of(i, 1), bin_of(i, 2)};
-    // Distinct neighbour bins only: with fewer than 3 bins per dimension the stencil would repeat.
-    std::vector<size_t> seen;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          int c[3] = {b[0] + dx, b[1] + dy, b[2] + dz};
-          bool skip = false;
-          for (int d = 0; d < 3; ++d) {
-            if (c[d] < 0 || c[d] >= nb[d]) {
-              if (!periodic[d]) skip = true;
-              c[d] = (c[d] + nb[d]) % nb[d];
-            }
-          }
-          if (skip) continue;
-          const size_t k = (static_cast<size_t>(c[2]) * nb[1] + c[1]) * nb[0] + c[0];
-          if (std::find(seen.begin(), seen.end(), k) != seen.end()) continue;
-          seen.push_back(k);
-          for (int64_t j : bins[k]) {
-            if (j <= i) continue;
-            double r2 = 0;
-            for (int d = 0; d < 3; ++d) {
-              const double dd = min_image(xyz[3 * i + d] - xyz[3 * j + d], d, box_lo, box_hi, periodic);
-              r2 += dd * dd;
-            }
-            const double cut = radius[i] + radius[j] + skin;
-            if (r2 < cut * cut) out.emplace_back(i, j);
-          }
-        }
+  if (n < 2) return out;
+  const double reach = 2 * *std::max_element(radius.begin(), radius.end()) + skin;
+  if (!(reach > 0)) return out; // no distance is below a non-positive reach
+  // Bins at least one reach wide (plus a hair, so rounding in the bin index cannot put a pair two
+  // bins apart); more bins than about 2n only cost memory, and wider bins stay correct.
+  int64_t nb[3];
+  double len[3], inv[3];
+  for (int d = 0; d < 3; ++d) {
+    len[d] = box_hi[d] - box_lo[d];
+    const double fit = len[d] > 0 ? len[d] / (reach * (1 + 1e-9)) : 1.0;
+    nb[d] = static_cast<int64_t>(std::clamp(fit, 1.0, 1e6));
   }
+  const double cap = std::max(27.0, 2.0 * static_cast<double>(n));
+  const double nbins = static_cast<double>(nb[0]) * static_cast<double>(nb[1]) * nb[2];
+  if (nbins > cap) {
+    const double shrink = std::cbrt(nbins / cap);
+    for (int64_t& m : nb)
+      m = std::max<int64_t>(1, static_cast<int64_t>(static_cast<double>(m) / shrink));
+  }
+  for (int d = 0; d < 3; ++d)
+    inv[d] = len[d] > 0 ? static_cast<double>(nb[d]) / len[d] : 0.0;
+
+  // Counting sort into CSR bins. Periodic coordinates wrap first (atoms may sit just outside the
+  // box between re-neighbourings); others clamp, which never separates close atoms by two bins.
+  std::vector<int64_t> bin(n), start(static_cast<size_t>(nb[0] * nb[1] * nb[2]) + 1, 0), member(n);
+  for (int64_t i = 0; i < n; ++i) {
+    int64_t c[3];
+    for (int d = 0; d < 3; ++d) {
+      double x = xyz[3 * i + d] - box_lo[d];
+      if (periodic[d] && len[d] > 0) x -= len[d] * std::floor(x / len[d]);
+      const double t = x * inv[d];
+      c[d] = !(t > 0)                              ? 0
+             : t >= static_cast<double>(nb[d] - 1) ? nb[d] - 1
+                                                   : static_cast<int64_t>(t);
+    }
+    bin[i] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+    ++start[bin[i] + 1];
+  }
+  for (size_t k = 1; k < start.size(); ++k)
+    start[k] += start[k - 1];
+  {
+    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    for (int64_t i = 0; i < n; ++i)
+      member[fill[bin[i]]++] = i;
+  }
+
+  // Distinct neighbour coordinates along one dimension: with fewer than three bins a periodic
+  // stencil would visit a bin twice and report its pairs twice.
+  auto neighbours = [&](int64_t c, int d, int64_t* q) {
+    int m = 0;
+    for (int64_t o = -1; o <= 1; ++o) {
+      int64_t k = c + o;
+      if (k < 0 || k >= nb[d]) {
+        if (!periodic[d]) continue;
+        k = (k + nb[d]) % nb[d];
+      }
+      if (std::find(q, q + m, k) == q + m) q[m++] = k;
+    }
+    return m;
+  };
+
+  // Half stencil: each unordered pair of bins is visited once, from its lower linear index.
+  const double* x = xyz.data();
+  const double* r = radius.data();
+  int64_t qx[3], qy[3], qz[3];
+  for (int64_t cz = 0, a = 0; cz < nb[2]; ++cz)
+    for (int64_t cy = 0; cy < nb[1]; ++cy)
+      for (int64_t cx = 0; cx < nb[0]; ++cx, ++a) {
+        if (start[a] == start[a + 1]) continue;
+        const int mx = neighbours(cx, 0, qx), my = neighbours(cy, 1, qy),
+                  mz = neighbours(cz, 2, qz);
+        for (int iz = 0; iz < mz; ++iz)
+          for (int iy = 0; iy < my; ++iy)
+            for (int ix = 0; ix < mx; ++ix) {
+              const int64_t b = (qz[iz] * nb[1] + qy[iy]) * nb[0] + qx[ix];
+              if (b < a) continue;
+              for (int64_t s = start[a]; s < start[a + 1]; ++s) {
+                const int64_t i = member[s];
+                for (int64_t t = b == a ? s + 1 : start[b]; t < start[b + 1]; ++t) {
+                  const int64_t lo = std::min(i, member[t]), hi = std::max(i, member[t]);
+                  if (within_reach(x, r, skin, lo, hi, box_lo, box_hi, periodic))
+                    out.emplace_back(lo, hi);
+                }
+              }
+            }
+      }
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -1,4 +1,5 @@
-// Particle graph (CSR), imbalance metrics, METIS k-way partitioning and migration-minimising relabelling.
+// Particle graph (CSR), imbalance metrics, METIS k-way partitioning and migration-minimising
+// relabelling.
 #ifndef FRACDEM_BALANCE_GRAPH_PARTITION_H
 #define FRACDEM_BALANCE_GRAPH_PARTITION_H
 
@@ -6,7 +7,8 @@
 #include <utility>
 #include <vector>
 
-namespace fracdem::balance {
+namespace fracdem::balance
+{
 
 // Undirected weighted graph in CSR form (each edge stored in both directions), ready for METIS.
 struct Graph {
@@ -36,12 +38,15 @@ double imbalance(const std::vector<double>& work_per_part);
 std::vector<double> part_loads(const std::vector<double>& vertex_load, const std::vector<int>& part,
                                int nparts);
 
-// Sum of the weights of edges whose ends lie in different parts.
+// Sum of the weights of edges whose ends lie in different parts. Throws std::invalid_argument
+// unless part has one entry per vertex.
 int64_t edge_cut(const Graph& g, const std::vector<int>& part);
 
 // METIS k-way (recursive bisection if k-way fails) with a fixed seed: deterministic. nparts == 1
 // gives all zeros without calling METIS. ubfactor 1.02 allows 2 % imbalance of vertex weights.
-// Throws std::runtime_error if METIS fails, std::overflow_error if the graph does not fit idx_t.
+// Weights whose sum passes ~2^30 are divided by a common factor (each kept >= 1). Throws
+// std::invalid_argument for nparts < 1 or inconsistent arrays, std::runtime_error with METIS's
+// status if METIS fails, std::overflow_error if the graph does not fit idx_t.
 std::vector<int> partition_kway(const Graph& g, int nparts, double ubfactor = 1.02);
 
 // Diffusive repartitioning from the current assignment: moves boundary vertices from parts above
@@ -57,26 +62,25 @@ int refine_partition(const Graph& g, std::vector<int>& part, int nparts, double 
 // old_owner values outside [0, nparts) mean "no current owner".
 std::vector<int> relabel_max_overlap(const std::vector<int>& new_part,
                                      const std::vector<int>& old_owner,
-                                     const std::vector<double>& vertex_migration_weight, int nparts);
+                                     const std::vector<double>& vertex_migration_weight,
+                                     int nparts);
 
 // Total weight of the vertices whose assignment differs.
 double migration_weight(const std::vector<int>& from, const std::vector<int>& to,
                         const std::vector<double>& vertex_migration_weight);
 
 // All pairs i<j of spheres whose centres are closer than r_i + r_j + skin, minimum image in the
-// periodic dimensions: O(n^2) reference for tests.
-std::vector<std::pair<int64_t, int64_t>> brute_force_pairs(const std::vector<double>& xyz,
-                                                           const std::vector<double>& radius,
-                                                           double skin, const double box_lo[3],
-                                                           const double box_hi[3],
-                                                           const bool periodic[3]);
+// periodic dimensions: O(n^2) reference for tests. Throws std::invalid_argument unless
+// xyz.size() == 3 * radius.size().
+std::vector<std::pair<int64_t, int64_t>>
+brute_force_pairs(const std::vector<double>& xyz, const std::vector<double>& radius, double skin,
+                  const double box_lo[3], const double box_hi[3], const bool periodic[3]);
 
-// The same set from cell bins (27-cell stencil, periodic wrap), sorted.
-std::vector<std::pair<int64_t, int64_t>> binned_pairs(const std::vector<double>& xyz,
-                                                      const std::vector<double>& radius, double skin,
-                                                      const double box_lo[3],
-                                                      const double box_hi[3],
-                                                      const bool periodic[3]);
+// The same set from cell bins at least 2 max(r) + skin wide (27-cell stencil, periodic wrap; atoms
+// a little outside the box are wrapped or clamped), sorted: O(n) for a bounded density.
+std::vector<std::pair<int64_t, int64_t>>
+binned_pairs(const std::vector<double>& xyz, const std::vector<double>& radius, double skin,
+             const double box_lo[3], const double box_hi[3], const bool periodic[3]);
 
 } // namespace fracdem::balance
 

@@ -1,13 +1,16 @@
-// Linear tet4 / tri3 / quad4 kernels: small-strain and corotational internal forces, stress, masses, dt.
+// Linear tet4 / tri3 / quad4 kernels: small-strain and corotational internal forces, stress,
+// masses, dt.
 #include "fem/fe_space.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
+namespace
+{
 
 // Per-element blocks in geo_ (flat, contiguous, indexed by offset_[e]):
 //   Tet4 : dNdX[4][3], V                                          -> 13 doubles
@@ -21,7 +24,8 @@ constexpr int kQuadPoint = 14;
 constexpr int kQuadBlock = 4 * kQuadPoint;
 constexpr double kPi = 3.14159265358979323846;
 const double kGauss = 0.57735026918962576451; // 1/sqrt(3)
-const double kQuadXi[4][2] = {{-kGauss, -kGauss}, {kGauss, -kGauss}, {kGauss, kGauss}, {-kGauss, kGauss}};
+const double kQuadXi[4][2] = {
+    {-kGauss, -kGauss}, {kGauss, -kGauss}, {kGauss, kGauss}, {-kGauss, kGauss}};
 
 int block_size(ElemType t)
 {
@@ -40,7 +44,8 @@ inline double det3(const double m[9])
 // Stops once a correction is < 1e-8: the next error is then ~1e-16 (quadratic convergence).
 inline void polar_rotation(const double F[9], double R[9])
 {
-  for (int k = 0; k < 9; ++k) R[k] = F[k];
+  for (int k = 0; k < 9; ++k)
+    R[k] = F[k];
   for (int it = 0; it < 40; ++it) {
     double cof[9]; // cofactor matrix = det * R^-T
     cof[0] = R[4] * R[8] - R[5] * R[7];
@@ -92,7 +97,8 @@ inline double tet_kernel(const double* g, const double* u, double lam, double mu
     // H = R^T F - I: displacement gradient in the co-rotated frame
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        H[3 * i + j] = R[i] * F[j] + R[3 + i] * F[3 + j] + R[6 + i] * F[6 + j] - (i == j ? 1.0 : 0.0);
+        H[3 * i + j] =
+            R[i] * F[j] + R[3 + i] * F[3 + j] + R[6 + i] * F[6 + j] - (i == j ? 1.0 : 0.0);
   }
   const double exx = H[0], eyy = H[4], ezz = H[8];
   const double gxy = H[1] + H[3], gyz = H[5] + H[7], gzx = H[2] + H[6];
@@ -109,12 +115,24 @@ inline double tet_kernel(const double* g, const double* u, double lam, double mu
       double c[9];
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-          c[3 * i + j] = RP[3 * i] * R[3 * j] + RP[3 * i + 1] * R[3 * j + 1] + RP[3 * i + 2] * R[3 * j + 2];
-      sig[0] = c[0]; sig[1] = c[4]; sig[2] = c[8]; sig[3] = c[1]; sig[4] = c[5]; sig[5] = c[2];
+          c[3 * i + j] =
+              RP[3 * i] * R[3 * j] + RP[3 * i + 1] * R[3 * j + 1] + RP[3 * i + 2] * R[3 * j + 2];
+      sig[0] = c[0];
+      sig[1] = c[4];
+      sig[2] = c[8];
+      sig[3] = c[1];
+      sig[4] = c[5];
+      sig[5] = c[2];
     }
-    for (int k = 0; k < 9; ++k) P[k] = RP[k];
+    for (int k = 0; k < 9; ++k)
+      P[k] = RP[k];
   } else if (sig) {
-    sig[0] = sxx; sig[1] = syy; sig[2] = szz; sig[3] = sxy; sig[4] = syz; sig[5] = szx;
+    sig[0] = sxx;
+    sig[1] = syy;
+    sig[2] = szz;
+    sig[3] = sxy;
+    sig[4] = syz;
+    sig[5] = szx;
   }
   for (int a = 0; a < 4; ++a) {
     const double d0 = V * dN[3 * a], d1 = V * dN[3 * a + 1], d2 = V * dN[3 * a + 2];
@@ -229,7 +247,8 @@ inline double quad_kernel(const double* g, const double* u, double lam, double m
       h[2] = -s * F[0] + c * F[2];
       h[3] = -s * F[1] + c * F[3] - 1;
     }
-    for (int k = 0; k < 4; ++k) H[q][k] = h[k];
+    for (int k = 0; k < 4; ++k)
+      H[q][k] = h[k];
     eth[q] = et;
     cq[q] = c;
     sq[q] = s;
@@ -238,7 +257,8 @@ inline double quad_kernel(const double* g, const double* u, double lam, double m
     thbar += gq[8] * th[q];
   }
   thbar /= W;
-  for (int k = 0; k < 8; ++k) fl[k] = 0;
+  for (int k = 0; k < 8; ++k)
+    fl[k] = 0;
   double bbar[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   double psum = 0, energy = 0;
   if (sig) sig[0] = sig[1] = sig[2] = sig[3] = 0;
@@ -279,7 +299,8 @@ inline double quad_kernel(const double* g, const double* u, double lam, double m
     }
   }
   const double pw = psum / W;
-  for (int k = 0; k < 8; ++k) fl[k] -= pw * bbar[k];
+  for (int k = 0; k < 8; ++k)
+    fl[k] -= pw * bbar[k];
   return energy;
 }
 
@@ -303,12 +324,14 @@ Geo element_geometry(ElemType t, const double* p, bool axisym, double thickness,
   if (t == ElemType::Tet4) {
     double J[9]; // columns: edges from node 0
     for (int k = 0; k < 3; ++k)
-      for (int i = 0; i < 3; ++i) J[3 * i + k] = p[3 * (k + 1) + i] - p[i];
+      for (int i = 0; i < 3; ++i)
+        J[3 * i + k] = p[3 * (k + 1) + i] - p[i];
     double h2 = 0; // longest edge, squared
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
         double l2 = 0;
-        for (int i = 0; i < 3; ++i) l2 += (p[3 * a + i] - p[3 * b + i]) * (p[3 * a + i] - p[3 * b + i]);
+        for (int i = 0; i < 3; ++i)
+          l2 += (p[3 * a + i] - p[3 * b + i]) * (p[3 * a + i] - p[3 * b + i]);
         h2 = std::max(h2, l2);
       }
     const double det = det3(J);
@@ -330,7 +353,8 @@ Geo element_geometry(ElemType t, const double* p, bool axisym, double thickness,
     inv[8] = (J[0] * J[4] - J[1] * J[3]) / det;
     for (int j = 0; j < 3; ++j) {
       g[0 + j] = -(inv[0 + j] + inv[3 + j] + inv[6 + j]);
-      for (int k = 0; k < 3; ++k) g[3 * (k + 1) + j] = inv[3 * k + j];
+      for (int k = 0; k < 3; ++k)
+        g[3 * (k + 1) + j] = inv[3 * k + j];
     }
     g[12] = V;
     return Geo::Ok;
@@ -347,15 +371,20 @@ Geo element_geometry(ElemType t, const double* p, bool axisym, double thickness,
     if (!(std::fabs(A) >= 1e-14 * h2) || h2 == 0) return Geo::Degenerate;
     if (A < 0) return Geo::Inverted;
     if (axisym && !(r > 0)) return Geo::Degenerate; // all three nodes on the axis
-    g[0] = (y1 - y2) / A2; g[1] = (x2 - x1) / A2;
-    g[2] = (y2 - y0) / A2; g[3] = (x0 - x2) / A2;
-    g[4] = (y0 - y1) / A2; g[5] = (x1 - x0) / A2;
+    g[0] = (y1 - y2) / A2;
+    g[1] = (x2 - x1) / A2;
+    g[2] = (y2 - y0) / A2;
+    g[3] = (x0 - x2) / A2;
+    g[4] = (y0 - y1) / A2;
+    g[5] = (x1 - x0) / A2;
     if (axisym) {
       g[6] = 2 * kPi * r * A;
-      for (int a = 0; a < 3; ++a) g[7 + a] = 1.0 / (3.0 * r);
+      for (int a = 0; a < 3; ++a)
+        g[7 + a] = 1.0 / (3.0 * r);
     } else {
       g[6] = A * thickness;
-      for (int a = 0; a < 3; ++a) g[7 + a] = 0;
+      for (int a = 0; a < 3; ++a)
+        g[7 + a] = 0;
     }
     g[10] = r;
     return Geo::Ok;
@@ -376,8 +405,10 @@ Geo element_geometry(ElemType t, const double* p, bool axisym, double thickness,
     double J[4] = {0, 0, 0, 0}, r = 0;
     for (int a = 0; a < 4; ++a) {
       const double xa = p[3 * a], ya = p[3 * a + 1];
-      J[0] += xa * dNdxi[a][0]; J[1] += xa * dNdxi[a][1];
-      J[2] += ya * dNdxi[a][0]; J[3] += ya * dNdxi[a][1];
+      J[0] += xa * dNdxi[a][0];
+      J[1] += xa * dNdxi[a][1];
+      J[2] += ya * dNdxi[a][0];
+      J[3] += ya * dNdxi[a][1];
       r += N[a] * xa;
     }
     const double det = J[0] * J[3] - J[1] * J[2]; // = area / 4 at this point for a parallelogram
@@ -402,10 +433,12 @@ Geo element_geometry(ElemType t, const double* p, bool axisym, double thickness,
     }
     if (axisym) {
       gp[8] = 2 * kPi * r * det;
-      for (int a = 0; a < 4; ++a) gp[9 + a] = N[a] / r;
+      for (int a = 0; a < 4; ++a)
+        gp[9 + a] = N[a] / r;
     } else {
       gp[8] = det * thickness;
-      for (int a = 0; a < 4; ++a) gp[9 + a] = 0;
+      for (int a = 0; a < 4; ++a)
+        gp[9 + a] = 0;
     }
     gp[13] = r;
   }
@@ -423,7 +456,8 @@ std::string elem_msg(int e, const std::string& what)
 // The element loop, instantiated per kinematics so the hot path has no model branches.
 template <bool Corot>
 double forces_loop(const Mesh& mesh, const double* geo, const int* offset, const double* x, int eb,
-                   int ee, double lam, double mu, double* f, double* elem_energy, int* first_inverted)
+                   int ee, double lam, double mu, double* f, double* elem_energy,
+                   int* first_inverted)
 {
   const double* X = mesh.X.data();
   const std::uint8_t* active = mesh.active.data();
@@ -483,7 +517,8 @@ double forces_loop(const Mesh& mesh, const double* geo, const int* offset, const
     if (elem_energy) elem_energy[e] = en;
     energy += en;
   }
-  if (first_inverted && inverted_first >= 0 && *first_inverted < 0) *first_inverted = inverted_first;
+  if (first_inverted && inverted_first >= 0 && *first_inverted < 0)
+    *first_inverted = inverted_first;
   return energy;
 }
 
@@ -498,7 +533,8 @@ void FeSpace::build(const Mesh& mesh, const Material& mat)
   axisym_ = mesh.dim == 2 && mat.plane == PlaneMode::Axisymmetric;
   const int ne = mesh.num_elems();
   offset_.assign(ne + 1, 0);
-  for (int e = 0; e < ne; ++e) offset_[e + 1] = offset_[e] + block_size(mesh.etype[e]);
+  for (int e = 0; e < ne; ++e)
+    offset_[e + 1] = offset_[e] + block_size(mesh.etype[e]);
   geo_.assign(offset_[ne], 0.0);
   measure_.assign(ne, 0.0);
   const double* X = mesh.X.data();
@@ -507,27 +543,39 @@ void FeSpace::build(const Mesh& mesh, const Material& mat)
     const ElemType t = mesh.etype[e];
     const int n = nodes_per_elem(t);
     if (elem_dim(t) != mesh.dim)
-      throw FeError(e, elem_msg(e, "has the wrong dimension for a " + std::to_string(mesh.dim) + "D mesh"));
+      throw FeError(
+          e, elem_msg(e, "has the wrong dimension for a " + std::to_string(mesh.dim) + "D mesh"));
     double p[12];
     for (int a = 0; a < n; ++a) {
       const int node = mesh.conn[e][a];
-      if (node < 0 || node >= nn) throw FeError(e, elem_msg(e, "refers to a missing node " + std::to_string(node)));
-      for (int i = 0; i < 3; ++i) p[3 * a + i] = X[3 * node + i];
+      if (node < 0 || node >= nn)
+        throw FeError(e, elem_msg(e, "refers to a missing node " + std::to_string(node)));
+      for (int i = 0; i < 3; ++i)
+        p[3 * a + i] = X[3 * node + i];
       if (axisym_ && X[3 * node] < 0) {
         std::ostringstream os;
-        os << "has node " << node << " at r = x = " << X[3 * node] << " < 0 (axisymmetric meshes need x >= 0)";
+        os << "has node " << node << " at r = x = " << X[3 * node]
+           << " < 0 (axisymmetric meshes need x >= 0)";
         throw FeError(e, elem_msg(e, os.str()));
       }
     }
     double value = 0;
-    const Geo st = element_geometry(t, p, axisym_, mat.thickness, &geo_[offset_[e]], measure_[e], value);
+    const Geo st =
+        element_geometry(t, p, axisym_, mat.thickness, &geo_[offset_[e]], measure_[e], value);
     if (st != Geo::Ok) {
       std::ostringstream os;
       if (st == Geo::Inverted)
-        os << "is inverted: negative " << (t == ElemType::Tet4 ? "volume " : t == ElemType::Tri3 ? "area " : "Jacobian ")
-           << value << (t == ElemType::Tet4 ? "; reorder its nodes" : "; order its nodes counter-clockwise");
+        os << "is inverted: negative "
+           << (t == ElemType::Tet4   ? "volume "
+               : t == ElemType::Tri3 ? "area "
+                                     : "Jacobian ")
+           << value
+           << (t == ElemType::Tet4 ? "; reorder its nodes" : "; order its nodes counter-clockwise");
       else
-        os << "is degenerate: " << (t == ElemType::Tet4 ? "volume " : t == ElemType::Tri3 ? "area " : "Jacobian ")
+        os << "is degenerate: "
+           << (t == ElemType::Tet4   ? "volume "
+               : t == ElemType::Tri3 ? "area "
+                                     : "Jacobian ")
            << value << " is too small for its size";
       throw FeError(e, elem_msg(e, os.str()));
     }
@@ -543,28 +591,32 @@ void FeSpace::element_masses(const Mesh& mesh, int e, double me[4]) const
   const auto& c = mesh.conn[e];
   me[0] = me[1] = me[2] = me[3] = 0;
   switch (mesh.etype[e]) {
-    case ElemType::Tet4:
-      for (int a = 0; a < 4; ++a) me[a] = rho * g[12] / 4.0;
-      break;
-    case ElemType::Tri3:
-      if (axisym_) {
-        // exact row sums of the r-weighted consistent mass: 2 pi rho A (2 r_a + r_b + r_c) / 12
-        const double* X = mesh.X.data();
-        const double rs = X[3 * c[0]] + X[3 * c[1]] + X[3 * c[2]];
-        for (int a = 0; a < 3; ++a) me[a] = 2 * kPi * rho * measure_[e] * (rs + X[3 * c[a]]) / 12.0;
-      } else {
-        for (int a = 0; a < 3; ++a) me[a] = rho * g[6] / 3.0;
-      }
-      break;
-    case ElemType::Quad4:
-      // row sums sum_q w_q N_a(q): exact for r N_a det J (cubic) with 2x2 Gauss
-      for (int q = 0; q < 4; ++q) {
-        double N[4], dNdxi[4][2];
-        quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
-        const double w = g[q * kQuadPoint + 8];
-        for (int a = 0; a < 4; ++a) me[a] += rho * w * N[a];
-      }
-      break;
+  case ElemType::Tet4:
+    for (int a = 0; a < 4; ++a)
+      me[a] = rho * g[12] / 4.0;
+    break;
+  case ElemType::Tri3:
+    if (axisym_) {
+      // exact row sums of the r-weighted consistent mass: 2 pi rho A (2 r_a + r_b + r_c) / 12
+      const double* X = mesh.X.data();
+      const double rs = X[3 * c[0]] + X[3 * c[1]] + X[3 * c[2]];
+      for (int a = 0; a < 3; ++a)
+        me[a] = 2 * kPi * rho * measure_[e] * (rs + X[3 * c[a]]) / 12.0;
+    } else {
+      for (int a = 0; a < 3; ++a)
+        me[a] = rho * g[6] / 3.0;
+    }
+    break;
+  case ElemType::Quad4:
+    // row sums sum_q w_q N_a(q): exact for r N_a det J (cubic) with 2x2 Gauss
+    for (int q = 0; q < 4; ++q) {
+      double N[4], dNdxi[4][2];
+      quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
+      const double w = g[q * kQuadPoint + 8];
+      for (int a = 0; a < 4; ++a)
+        me[a] += rho * w * N[a];
+    }
+    break;
   }
 }
 
@@ -576,7 +628,8 @@ void FeSpace::lumped_masses(const Mesh& mesh, std::vector<double>& m) const
     double me[4];
     element_masses(mesh, e, me);
     const int n = nodes_per_elem(mesh.etype[e]);
-    for (int a = 0; a < n; ++a) m[mesh.conn[e][a]] += me[a];
+    for (int a = 0; a < n; ++a)
+      m[mesh.conn[e][a]] += me[a];
   }
 }
 
@@ -599,7 +652,8 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
 
 void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double sigma[6]) const
 {
-  for (int k = 0; k < 6; ++k) sigma[k] = 0;
+  for (int k = 0; k < 6; ++k)
+    sigma[k] = 0;
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   const double lam = mat_.lambda(), mu = mat_.mu();
   const auto& c = mesh.conn[e];
@@ -609,21 +663,29 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   if (mesh.etype[e] == ElemType::Tet4) {
     double u[12];
     for (int a = 0; a < 4; ++a)
-      for (int i = 0; i < 3; ++i) u[3 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
-    if (corot) tet_kernel<true>(g, u, lam, mu, fl, detF, sigma);
-    else tet_kernel<false>(g, u, lam, mu, fl, detF, sigma);
+      for (int i = 0; i < 3; ++i)
+        u[3 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
+    if (corot)
+      tet_kernel<true>(g, u, lam, mu, fl, detF, sigma);
+    else
+      tet_kernel<false>(g, u, lam, mu, fl, detF, sigma);
     return;
   }
   const int n = nodes_per_elem(mesh.etype[e]);
   double u[8], s4[4];
   for (int a = 0; a < n; ++a)
-    for (int i = 0; i < 2; ++i) u[2 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
+    for (int i = 0; i < 2; ++i)
+      u[2 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
   if (mesh.etype[e] == ElemType::Tri3) {
-    if (corot) tri_kernel<true>(g, u, lam, mu, fl, detF, s4);
-    else tri_kernel<false>(g, u, lam, mu, fl, detF, s4);
+    if (corot)
+      tri_kernel<true>(g, u, lam, mu, fl, detF, s4);
+    else
+      tri_kernel<false>(g, u, lam, mu, fl, detF, s4);
   } else {
-    if (corot) quad_kernel<true>(g, u, lam, mu, fl, detF, s4);
-    else quad_kernel<false>(g, u, lam, mu, fl, detF, s4);
+    if (corot)
+      quad_kernel<true>(g, u, lam, mu, fl, detF, s4);
+    else
+      quad_kernel<false>(g, u, lam, mu, fl, detF, s4);
   }
   sigma[0] = s4[0];
   sigma[1] = s4[1];
@@ -661,13 +723,15 @@ double FeSpace::omega2_bound(const Mesh& mesh, const double* x, int e) const
   double me[4];
   element_masses(mesh, e, me);
   double mmin = 1e300;
-  for (int a = 0; a < n; ++a) mmin = std::min(mmin, me[a]);
+  for (int a = 0; a < n; ++a)
+    mmin = std::min(mmin, me[a]);
   if (!(mmin > 0)) return 0;
 
   auto bound_of = [&](const double* g) {
     if (t == ElemType::Tet4) {
       double T = 0;
-      for (int k = 0; k < 12; ++k) T += g[k] * g[k];
+      for (int k = 0; k < 12; ++k)
+        T += g[k] * g[k];
       return g[12] * (lamv + 2 * mu) * T;
     }
     const int npts = t == ElemType::Tri3 ? 1 : 4;
@@ -691,7 +755,8 @@ double FeSpace::omega2_bound(const Mesh& mesh, const double* x, int e) const
   if (x) {
     double p[12], g[kQuadBlock], meas, value;
     for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 3; ++i) p[3 * a + i] = x[3 * mesh.conn[e][a] + i];
+      for (int i = 0; i < 3; ++i)
+        p[3 * a + i] = x[3 * mesh.conn[e][a] + i];
     if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) == Geo::Ok)
       C = std::max(C, bound_of(g));
   }
