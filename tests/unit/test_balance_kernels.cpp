@@ -1,5 +1,4 @@
-// Unit tests of the load-balance kernels: graph build, imbalance, edge cut, METIS partition,
-// migration-minimising relabelling (against brute force) and binned vs brute-force pair search.
+// Unit tests of the load-balance kernels (graph, METIS, relabelling, pair search, cells, costs).
 #include <gtest/gtest.h>
 
 #include <algorithm>

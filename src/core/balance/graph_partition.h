@@ -1,5 +1,4 @@
-// Particle graph (CSR), imbalance metrics, METIS k-way partitioning and migration-minimising
-// relabelling.
+// Particle graph (CSR), imbalance metrics, METIS partitioning and migration-minimal relabelling.
 #ifndef FRACDEM_BALANCE_GRAPH_PARTITION_H
 #define FRACDEM_BALANCE_GRAPH_PARTITION_H
 
