@@ -90,6 +90,9 @@ def main():
     ap.add_argument("--reps", type=int, default=3, help="repetitions where ranks <= cores")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--no-lammps", action="store_true")
+    ap.add_argument("--methods", nargs="+", help="only methods whose name contains one of these")
+    ap.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
+                    help="extra input variable for every run, e.g. --var L 0.3168")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     script, lammps_script, default_steps, mesh = SCENES[args.scene]
@@ -98,13 +101,18 @@ def main():
     cores = os.cpu_count() or 1
     tag = f"balance_{args.scene}"
 
+    extra = dict(EXTRA.get(args.scene, {}), **dict(args.var))
+    methods = {k: v for k, v in FRACDEM_METHODS.items()
+               if not args.methods or any(m in k for m in args.methods)}
+    lammps_methods = {k: v for k, v in LAMMPS_METHODS.items()
+                      if not args.methods or any(m in k for m in args.methods)}
     rows, rank_work, history = [], {}, {}
     for np_ in args.ranks:
         reps = args.reps if np_ <= cores else 1
-        for name, var in FRACDEM_METHODS.items():
+        for name, var in methods.items():
             loops, last = [], None
             for _ in range(reps):
-                stats, df = run_one(args.exe, script, np_, dict(steps=steps, balance=1, **EXTRA.get(args.scene, {}), **var), mesh)
+                stats, df = run_one(args.exe, script, np_, dict(steps=steps, balance=1, **extra, **var), mesh)
                 loops.append(stats["loop_s"])
                 last = (stats, df)
             stats, df = last
@@ -121,10 +129,10 @@ def main():
                 rank_work[name] = s.get("work_per_rank", [])
                 history[name] = (df["step"].tolist(), df["measured_imbalance"].tolist())
         if lmp:
-            for name, bal in LAMMPS_METHODS.items():
+            for name, bal in lammps_methods.items():
                 loops, last = [], None
                 for _ in range(reps):
-                    stats, _ = run_one(lmp, lammps_script, np_, dict(steps=steps, balance=bal))
+                    stats, _ = run_one(lmp, lammps_script, np_, dict(steps=steps, balance=bal, **dict(args.var)))
                     loops.append(stats["loop_s"])
                     last = stats
                 stats = last
