@@ -22,6 +22,7 @@
 #include "update.h"
 
 #include "contact/contact_resolution.h"
+#include "contact/contact_spread.h"
 #include "contact/geometry.h"
 #include "io/gmsh_reader.h"
 
@@ -402,8 +403,7 @@ void FixFemBody::load_mesh()
   elem_begin_ = static_cast<int>((static_cast<long long>(ne) * comm->me) / comm->nprocs);
   elem_end_ = static_cast<int>((static_cast<long long>(ne) * (comm->me + 1)) / comm->nprocs);
 
-  facets_ = fracdem::boundary_facets(mesh_);
-  topology_.build(facets_, mesh_.num_nodes());
+  rebuild_surface();
 
   if (comm->me == 0) {
     char line[512];
@@ -904,10 +904,23 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
           touched[(slot - hist) / kSlotDoubles] = 1;
         }
       }
+      // On a deformable body carrying its own compliance, a resolved contact gets Hertz's contact
+      // radius from the total approach and spreads its reaction as Hertz pressure over the
+      // contact disc; an unresolved one (disc smaller than the mesh) stays a point contact.
+      bool spread = false;
+      if (!rigid_ && !compliance_combined_ && normal_model_ == fracdem::NormalModel::Hertz)
+        spread = hertz_contact_patch(lead, in, r);
       fracdem::ContactOutput out = fracdem::particle_surface_force(mat, in, shear);
       for (int d = 0; d < 3; ++d) {
         f[i][d] += out.force[d];
         torque[i][d] += out.torque[d];
+      }
+      if (spread) {
+        for (size_t k = 0; k < patch_.nodes.size(); ++k)
+          for (int d = 0; d < 3; ++d)
+            f_contact[3 * patch_.nodes[k] + d] -= patch_weights_[k] * out.force[d];
+        ++ncontacts;
+        continue;
       }
       // Reaction on the facet nodes by share x barycentric weight: the weights sum to one, so
       // the pair's linear momentum balance holds to round-off.
@@ -924,6 +937,65 @@ void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
       for (int k = 0; k < nslots_; ++k)
         if (!touched[k]) hist[k * kSlotDoubles] = hist[k * kSlotDoubles + 1] = -1;
   }
+}
+
+bool FixFemBody::hertz_contact_patch(const fracdem::FacetHit& lead, fracdem::ContactInput& in,
+                                     double radius)
+{
+  // Displacement into the body (along -n) at the contact point and around it.
+  const double* X = mesh_.X.data();
+  auto into_body = [&](int v) {
+    double u = 0;
+    for (int d = 0; d < 3; ++d)
+      u -= (x_[3 * v + d] - X[3 * v + d]) * in.n[d];
+    return u;
+  };
+  double u_c = 0;
+  for (int j = 0; j < lead.nn; ++j)
+    u_c += lead.cp.w[j] * into_body(lead.nodes[j]);
+  // The patch must reach the ring [1.5 a, 3.5 a] of the largest plausible contact radius; two
+  // passes: the ring of the point-law radius first, then of the radius that gives.
+  double a = std::sqrt(radius * in.delta);
+  double delta_b = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    fracdem::gather_surface_patch(topology_, x_.data(), lead.nodes, lead.nn, lead.cp.p, in.n,
+                                  3.6 * std::sqrt(2 * radius * (in.delta + delta_b)), patch_);
+    for (int v : patch_.nodes)
+      indentation_disp_[v] = into_body(v);
+    delta_b = fracdem::local_indentation(radius, in.delta, u_c, indentation_disp_, patch_);
+    a = std::sqrt(radius * (in.delta + delta_b));
+  }
+  if (!fracdem::hertz_pressure_weights(patch_, node_area_, a, patch_weights_)) return false;
+  in.contact_radius = a;
+  return true;
+}
+
+void FixFemBody::rebuild_surface()
+{
+  facets_ = fracdem::boundary_facets(mesh_);
+  topology_.build(facets_, mesh_.num_nodes());
+  // Surface area per node in the reference configuration (a third of each triangle, half of
+  // each 2D edge): the weights of a pressure spread over the nodes.
+  node_area_.assign(mesh_.num_nodes(), 0.0);
+  const double* X = mesh_.X.data();
+  for (const fracdem::Facet& fc : facets_) {
+    const double* a = &X[3 * fc.n[0]];
+    const double* b = &X[3 * fc.n[1]];
+    double size;
+    if (fc.nn == 3) {
+      const double* c = &X[3 * fc.n[2]];
+      const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+      const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
+      size = 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    } else {
+      size = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
+    }
+    for (int j = 0; j < fc.nn; ++j)
+      node_area_[fc.n[j]] += size / fc.nn;
+  }
+  indentation_disp_.assign(mesh_.num_nodes(), 0.0);
 }
 
 double* FixFemBody::history_slot_find(int i, std::uint64_t key, bool create)
@@ -1105,8 +1177,7 @@ void FixFemBody::restart(char* raw)
   p += 6 * nn;
   for (int e = 0; e < ne; ++e)
     mesh_.active[e] = p[e] != 0.0;
-  facets_ = fracdem::boundary_facets(mesh_);
-  topology_.build(facets_, mesh_.num_nodes());
+  rebuild_surface();
   restarted_state_ = true;
 }
 

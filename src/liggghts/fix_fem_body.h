@@ -11,6 +11,7 @@
 #include "fix.h"
 
 #include "contact/contact_resolution.h"
+#include "contact/contact_spread.h"
 #include "contact/contact_search.h"
 #include "contact/granular_law.h"
 #include "fem/fe_space.h"
@@ -149,6 +150,11 @@ private:
   bool search_stale_ = true;
   std::vector<double> normals_, overlaps_; // per-hit scratch
   std::vector<int> facet_checks_, facet_contacts_;
+  // Hertz contact on the resolved deformable surface (see hertz_contact_patch).
+  std::vector<double> node_area_, indentation_disp_, patch_weights_;
+  fracdem::SurfacePatch patch_;
+  void rebuild_surface();
+  bool hertz_contact_patch(const fracdem::FacetHit& lead, fracdem::ContactInput& in, double radius);
   int nrebuilds_ = 0;
 
   // ---- per-atom history ----

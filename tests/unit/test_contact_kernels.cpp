@@ -5,6 +5,7 @@
 #include <random>
 
 #include "contact/contact_resolution.h"
+#include "contact/contact_spread.h"
 #include "contact/contact_search.h"
 #include "contact/geometry.h"
 #include "contact/granular_law.h"
@@ -40,7 +41,8 @@ TEST(ContactGeometry, ClosestPointTriangleMatchesDenseSampling)
     EXPECT_LE(cp.dist2, best + 1e-12);
     EXPECT_GE(cp.dist2, best - 0.02 * std::sqrt(best) * 2.0 / N * 4 - 1e-9);
     EXPECT_NEAR(cp.w[0] + cp.w[1] + cp.w[2], 1.0, 1e-12);
-    for (int d = 0; d < 3; ++d) EXPECT_NEAR(cp.p[d], cp.w[0] * a[d] + cp.w[1] * b[d] + cp.w[2] * c[d], 1e-12);
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(cp.p[d], cp.w[0] * a[d] + cp.w[1] * b[d] + cp.w[2] * c[d], 1e-12);
   }
   const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
   const double qf[3] = {0.2, 0.2, 1}, qe[3] = {0.5, -1, 0.3}, qv[3] = {-1, -1, 0};
@@ -66,7 +68,8 @@ TEST(ContactLaw, HertzNormalForceAndDamping)
   const double Sn = 2 * m.Yeff * std::sqrt(0.01 * 1e-4);
   const double le = std::log(0.5), beta = le / std::sqrt(le * le + M_PI * M_PI);
   const double gn = -2 * std::sqrt(5.0 / 6.0) * beta * std::sqrt(Sn * 0.02);
-  EXPECT_NEAR(out.force[2], 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5) + gn * 0.5, 1e-9);
+  EXPECT_NEAR(out.force[2], 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5) + gn * 0.5,
+              1e-9);
 }
 
 TEST(ContactLaw, CoulombCapRescalesHistory)
@@ -80,7 +83,8 @@ TEST(ContactLaw, CoulombCapRescalesHistory)
     EXPECT_LE(ft, 0.3 * std::fabs(out.fn) * (1 + 1e-12));
   }
   const double Kt = 8 * m.Geff * std::sqrt(0.01 * 1e-4);
-  EXPECT_NEAR(Kt * std::hypot(shear[0], shear[1]), 0.3 * 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5), 1e-9);
+  EXPECT_NEAR(Kt * std::hypot(shear[0], shear[1]),
+              0.3 * 4.0 / 3.0 * m.Yeff * std::sqrt(0.01) * std::pow(1e-4, 1.5), 1e-9);
 }
 
 TEST(ContactLaw, SphereOnRigidWallReproducesHertzImpact)
@@ -124,7 +128,8 @@ TEST(ContactSearch, CandidatesEqualBruteForce)
     }
   std::vector<double> sxr(4 * 2000);
   for (int s = 0; s < 2000; ++s) {
-    for (int d = 0; d < 3; ++d) sxr[4 * s + d] = U(rng);
+    for (int d = 0; d < 3; ++d)
+      sxr[4 * s + d] = U(rng);
     sxr[4 * s + 3] = S(rng);
   }
   BufferedSearch search(0.01);
@@ -139,21 +144,25 @@ TEST(ContactSearch, RebuildCriterionNeverMissesAContact)
   std::uniform_real_distribution<double> U(0, 1), step(-0.002, 0.002);
   const int nf = 400, ns = 300;
   std::vector<double> nodes(3 * nf), spheres(4 * ns);
-  for (auto& v : nodes) v = U(rng);
+  for (auto& v : nodes)
+    v = U(rng);
   for (int s = 0; s < ns; ++s) {
-    for (int d = 0; d < 3; ++d) spheres[4 * s + d] = U(rng);
+    for (int d = 0; d < 3; ++d)
+      spheres[4 * s + d] = U(rng);
     spheres[4 * s + 3] = 0.02;
   }
   auto boxes_of = [&]() {
     std::vector<Aabb> b(nf);
     for (int f = 0; f < nf; ++f)
-      for (int d = 0; d < 3; ++d) b[f].lo[d] = b[f].hi[d] = nodes[3 * f + d]; // point facets
+      for (int d = 0; d < 3; ++d)
+        b[f].lo[d] = b[f].hi[d] = nodes[3 * f + d]; // point facets
     return b;
   };
   auto centres = [&]() {
     std::vector<double> c(3 * ns);
     for (int s = 0; s < ns; ++s)
-      for (int d = 0; d < 3; ++d) c[3 * s + d] = spheres[4 * s + d];
+      for (int d = 0; d < 3; ++d)
+        c[3 * s + d] = spheres[4 * s + d];
     return c;
   };
   BufferedSearch search(0.01);
@@ -167,18 +176,23 @@ TEST(ContactSearch, RebuildCriterionNeverMissesAContact)
     }
     auto touching = brute_force_candidates(boxes_of(), spheres.data(), ns, 0.0);
     const auto& cand = search.candidates();
-    for (const auto& p : touching) ASSERT_TRUE(std::binary_search(cand.begin(), cand.end(), p)) << "missed at step " << it;
-    for (auto& v : nodes) v += step(rng);
+    for (const auto& p : touching)
+      ASSERT_TRUE(std::binary_search(cand.begin(), cand.end(), p)) << "missed at step " << it;
+    for (auto& v : nodes)
+      v += step(rng);
     for (int s = 0; s < ns; ++s)
-      for (int d = 0; d < 3; ++d) spheres[4 * s + d] += step(rng);
+      for (int d = 0; d < 3; ++d)
+        spheres[4 * s + d] += step(rng);
   }
   EXPECT_LT(rebuilds, 200);
   EXPECT_GT(rebuilds, 1);
 }
 
-namespace {
+namespace
+{
 // All hits of a sphere against the boundary of a flat 4x4 plate (top face z = 0).
-std::vector<FacetHit> hits_on_plate(const Mesh& mesh, const std::vector<Facet>& facets, const double q[3], double r)
+std::vector<FacetHit> hits_on_plate(const Mesh& mesh, const std::vector<Facet>& facets,
+                                    const double q[3], double r)
 {
   std::vector<FacetHit> hits;
   for (int k = 0; k < static_cast<int>(facets.size()); ++k) {
@@ -186,7 +200,8 @@ std::vector<FacetHit> hits_on_plate(const Mesh& mesh, const std::vector<Facet>& 
     FacetHit h;
     h.facet = k;
     h.nn = 3;
-    for (int j = 0; j < 3; ++j) h.nodes[j] = f.n[j];
+    for (int j = 0; j < 3; ++j)
+      h.nodes[j] = f.n[j];
     h.cp = closest_point_triangle(q, &mesh.X[3 * f.n[0]], &mesh.X[3 * f.n[1]], &mesh.X[3 * f.n[2]]);
     if (h.cp.dist2 < r * r) hits.push_back(h);
   }
@@ -201,12 +216,14 @@ TEST(ContactResolution, FlatSurfaceGivesExactlyOneContactWhateverTheMesh)
   SurfaceTopology topo;
   topo.build(facets, mesh.num_nodes());
   const double r = 0.3; // much larger than the facets: many are within reach
-  for (const auto& q : std::vector<std::array<double, 3>>{{0.5, 0.5, 0.29}, {0.5, 0.4375, 0.29}, {0.43, 0.61, 0.29}, {0.51, 0.51, 0.29}}) {
+  for (const auto& q : std::vector<std::array<double, 3>>{
+           {0.5, 0.5, 0.29}, {0.5, 0.4375, 0.29}, {0.43, 0.61, 0.29}, {0.51, 0.51, 0.29}}) {
     auto hits = hits_on_plate(mesh, facets, q.data(), r);
     ASSERT_GT(hits.size(), 5u);
     auto kept = resolve_sphere_hits(hits, q.data(), mesh.X.data(), topo);
     int n_contacts = 0;
-    for (const auto& h : kept) n_contacts += 1;
+    for (const auto& h : kept)
+      n_contacts += 1;
     EXPECT_EQ(n_contacts, 1) << "at " << q[0] << "," << q[1];
     EXPECT_NEAR(std::sqrt(kept[0].cp.dist2), 0.29, 1e-12);
   }
@@ -231,8 +248,10 @@ TEST(ContactResolution, ConvexRidgeGivesOneEdgeContact)
     FacetHit h;
     h.facet = k;
     h.nn = 3;
-    for (int j = 0; j < 3; ++j) h.nodes[j] = facets[k].n[j];
-    h.cp = closest_point_triangle(q, &mesh.X[3 * h.nodes[0]], &mesh.X[3 * h.nodes[1]], &mesh.X[3 * h.nodes[2]]);
+    for (int j = 0; j < 3; ++j)
+      h.nodes[j] = facets[k].n[j];
+    h.cp = closest_point_triangle(q, &mesh.X[3 * h.nodes[0]], &mesh.X[3 * h.nodes[1]],
+                                  &mesh.X[3 * h.nodes[2]]);
     hits.push_back(h);
   }
   auto kept = resolve_sphere_hits(hits, q, mesh.X.data(), topo);
@@ -244,4 +263,86 @@ TEST(ContactResolution, ConvexRidgeGivesOneEdgeContact)
   EXPECT_EQ(clusters[0][0], 1); // deepest first
   const double apart[6] = {0, 0, 1, 1, 0, 0};
   EXPECT_EQ(cluster_hits(apart, overlaps, 2).size(), 2u);
+}
+
+namespace
+{
+
+// Flat triangulated square z = 0, n x n cells of size h centred at the origin.
+void flat_surface(int n, double h, std::vector<double>& x, std::vector<fracdem::Facet>& facets)
+{
+  x.clear();
+  facets.clear();
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      x.push_back((i - n / 2.0) * h);
+      x.push_back((j - n / 2.0) * h);
+      x.push_back(0.0);
+    }
+  auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      fracdem::Facet a{}, b{};
+      a.nn = b.nn = 3;
+      a.n[0] = id(i, j), a.n[1] = id(i + 1, j), a.n[2] = id(i + 1, j + 1);
+      b.n[0] = id(i, j), b.n[1] = id(i + 1, j + 1), b.n[2] = id(i, j + 1);
+      facets.push_back(a);
+      facets.push_back(b);
+    }
+}
+
+} // namespace
+
+TEST(ContactSpread, HertzProfileIsContinuousAndDecays)
+{
+  EXPECT_DOUBLE_EQ(fracdem::hertz_surface_profile(0.0), 1.0);
+  EXPECT_NEAR(fracdem::hertz_surface_profile(1.0), 0.5, 1e-12);
+  EXPECT_NEAR(fracdem::hertz_surface_profile(1.0 + 1e-9), 0.5, 1e-6);
+  // Far field of a point load: u ~ 2 / (pi s) times the centre value's 1/... -> 2/(3 s) / (pi/2)
+  const double s = 50.0;
+  EXPECT_NEAR(fracdem::hertz_surface_profile(s) * s, 4.0 / (3.0 * M_PI), 1e-3);
+}
+
+TEST(ContactSpread, RecoversIndentationUnderRigidOffsetAndSpreadsAboutTheCentre)
+{
+  const int n = 80;
+  const double h = 0.05e-3, R = 5e-3, delta_p = 2e-6, delta_b = 2e-6, u_rigid = 3e-6;
+  std::vector<double> x;
+  std::vector<fracdem::Facet> facets;
+  flat_surface(n, h, x, facets);
+  fracdem::SurfaceTopology topo;
+  const int nnodes = static_cast<int>(x.size() / 3);
+  topo.build(facets, nnodes);
+  const double a = std::sqrt(R * (delta_p + delta_b)); // 0.141 mm = 2.8 h
+  // Synthetic Hertz displacement field into the body plus a rigid offset.
+  std::vector<double> disp(nnodes), area(nnodes, h * h);
+  for (int v = 0; v < nnodes; ++v) {
+    const double r = std::hypot(x[3 * v], x[3 * v + 1]);
+    disp[v] = u_rigid + delta_b * fracdem::hertz_surface_profile(r / a);
+  }
+  const double c[3] = {0.3 * h, -0.2 * h, 0.0}, nrm[3] = {0, 0, 1};
+  const int centre = (n / 2) * (n + 1) + n / 2;
+  fracdem::SurfacePatch patch;
+  fracdem::gather_surface_patch(topo, x.data(), &centre, 1, c, nrm, 4 * a, patch);
+  EXPECT_GT(patch.nodes.size(), 100u);
+  const double u_c = u_rigid + delta_b * fracdem::hertz_surface_profile(std::hypot(c[0], c[1]) / a);
+  const double got = fracdem::local_indentation(R, delta_p, u_c, disp, patch);
+  EXPECT_NEAR(got, delta_b, 0.05 * delta_b); // ring sampled on a mesh of h = a / 2.8
+
+  std::vector<double> w;
+  ASSERT_TRUE(fracdem::hertz_pressure_weights(patch, area, a, w));
+  double sum = 0, cx = 0, cy = 0;
+  for (size_t k = 0; k < w.size(); ++k) {
+    sum += w[k];
+    cx += w[k] * x[3 * patch.nodes[k]];
+    cy += w[k] * x[3 * patch.nodes[k] + 1];
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-12);
+  EXPECT_NEAR(cx, c[0], 0.25 * h); // the pressure centre follows the contact point
+  EXPECT_NEAR(cy, c[1], 0.25 * h);
+  // An unresolved contact (disc smaller than the mesh) falls back to the point law.
+  EXPECT_FALSE(fracdem::hertz_pressure_weights(patch, area, 0.4 * h, w));
+  fracdem::SurfacePatch tiny;
+  fracdem::gather_surface_patch(topo, x.data(), &centre, 1, c, nrm, 0.5 * h, tiny);
+  EXPECT_DOUBLE_EQ(fracdem::local_indentation(R, delta_p, u_c, disp, tiny), 0.0);
 }

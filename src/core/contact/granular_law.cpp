@@ -3,7 +3,8 @@
 
 #include <cmath>
 
-namespace fracdem {
+namespace fracdem
+{
 
 ContactMaterial mix_materials(double E1, double nu1, double E2, double nu2, double e, double mu,
                               double char_vel, NormalModel m, bool history)
@@ -29,7 +30,7 @@ ContactOutput particle_surface_force(const ContactMaterial& mat, const ContactIn
   const double* en = in.n;
   const double reff = in.radius, meff = in.mass; // wall: particle radius and mass
   const double deltan = in.delta;
-  const double sqrtval = std::sqrt(reff * deltan);
+  const double sqrtval = in.contact_radius > 0 ? in.contact_radius : std::sqrt(reff * deltan);
   double kn, kt, gamman, gammat;
   if (mat.model == NormalModel::Hertz) {
     const double Sn = 2 * mat.Yeff * sqrtval, St = 8 * mat.Geff * sqrtval;
@@ -53,18 +54,23 @@ ContactOutput particle_surface_force(const ContactMaterial& mat, const ContactIn
   const double cr = in.radius - 0.5 * deltan;
   // relative tangential velocity of the contact points: vt - cr * (omega x n)
   const double w[3] = {cr * in.omega[0], cr * in.omega[1], cr * in.omega[2]};
-  const double vtr[3] = {vt[0] - (w[1] * en[2] - w[2] * en[1]), vt[1] - (w[2] * en[0] - w[0] * en[2]),
+  const double vtr[3] = {vt[0] - (w[1] * en[2] - w[2] * en[1]),
+                         vt[1] - (w[2] * en[0] - w[0] * en[2]),
                          vt[2] - (w[0] * en[1] - w[1] * en[0])};
 
   const double Fn = kn * deltan - gamman * vn; // limitForce off (LIGGGHTS default)
 
   double Ft[3];
   if (mat.tangential_history) {
-    for (int d = 0; d < 3; ++d) shear[d] += vtr[d] * in.dt;
+    for (int d = 0; d < 3; ++d)
+      shear[d] += vtr[d] * in.dt;
     const double rsht = shear[0] * en[0] + shear[1] * en[1] + shear[2] * en[2];
-    for (int d = 0; d < 3; ++d) shear[d] -= rsht * en[d];
-    const double shrmag = std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
-    for (int d = 0; d < 3; ++d) Ft[d] = -kt * shear[d];
+    for (int d = 0; d < 3; ++d)
+      shear[d] -= rsht * en[d];
+    const double shrmag =
+        std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
+    for (int d = 0; d < 3; ++d)
+      Ft[d] = -kt * shear[d];
     const double Ft_shear = kt * shrmag, Ft_friction = mat.coeffFric * std::fabs(Fn);
     if (Ft_shear > Ft_friction) {
       if (shrmag != 0.0) {
@@ -77,21 +83,25 @@ ContactOutput particle_surface_force(const ContactMaterial& mat, const ContactIn
         Ft[0] = Ft[1] = Ft[2] = 0;
       }
     } else {
-      for (int d = 0; d < 3; ++d) Ft[d] -= gammat * vtr[d];
+      for (int d = 0; d < 3; ++d)
+        Ft[d] -= gammat * vtr[d];
     }
   } else {
     // tangential no_history: viscous friction capped by Coulomb (LIGGGHTS no_history model)
     const double vrel = std::sqrt(vtr[0] * vtr[0] + vtr[1] * vtr[1] + vtr[2] * vtr[2]);
     const double Ft_damp = gammat * vrel, Ft_fric = mat.coeffFric * std::fabs(Fn);
     const double Ftm = std::fmin(Ft_damp, Ft_fric);
-    for (int d = 0; d < 3; ++d) Ft[d] = vrel > 0 ? -Ftm * vtr[d] / vrel : 0.0;
+    for (int d = 0; d < 3; ++d)
+      Ft[d] = vrel > 0 ? -Ftm * vtr[d] / vrel : 0.0;
   }
 
   ContactOutput out;
-  for (int d = 0; d < 3; ++d) out.force[d] = Fn * en[d] + Ft[d];
+  for (int d = 0; d < 3; ++d)
+    out.force[d] = Fn * en[d] + Ft[d];
   const double tor[3] = {en[1] * Ft[2] - en[2] * Ft[1], en[2] * Ft[0] - en[0] * Ft[2],
                          en[0] * Ft[1] - en[1] * Ft[0]};
-  for (int d = 0; d < 3; ++d) out.torque[d] = -cr * tor[d];
+  for (int d = 0; d < 3; ++d)
+    out.torque[d] = -cr * tor[d];
   out.fn = Fn;
   return out;
 }

@@ -1,16 +1,18 @@
-// Particle-surface contact law in LIGGGHTS' conventions (wall/gran hertz|hooke, tangential history).
+// Particle-surface contact law in LIGGGHTS' conventions (wall/gran hertz|hooke, tangential
+// history).
 #pragma once
 
 #include <cstdint>
 
-namespace fracdem {
+namespace fracdem
+{
 
 enum class NormalModel : std::uint8_t { Hertz, Hooke };
 
 struct ContactMaterial {
-  double Yeff = 0, Geff = 0;   // effective Young's and shear moduli
+  double Yeff = 0, Geff = 0; // effective Young's and shear moduli
   double coeffRest = 1, coeffFric = 0, charVel = 1;
-  double betaeff = 0;          // log(e) / sqrt(log(e)^2 + pi^2)
+  double betaeff = 0; // log(e) / sqrt(log(e)^2 + pi^2)
   NormalModel model = NormalModel::Hertz;
   bool tangential_history = true;
 };
@@ -32,6 +34,9 @@ struct ContactInput {
   double v_rel[3];
   double omega[3];
   double dt;
+  // Hertz contact radius, where the caller knows it better than sqrt(radius * delta) (a sphere on
+  // a deformable surface: a^2 = R (delta + body indentation)); 0 = sqrt(radius * delta).
+  double contact_radius = 0;
 };
 struct ContactOutput {
   double force[3];  // on the particle
