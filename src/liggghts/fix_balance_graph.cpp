@@ -169,7 +169,7 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
 
   // Calibrated costs are measured once on rank 0 and shared, so every rank weighs alike.
   costs_ = fracdem::balance::unit_costs();
-  if (cost_model_ == CostModel::Calibrated) {
+  if (cost_model_ == CostModel::Calibrated || cost_model_ == CostModel::Timed) {
     double c[7] = {0, 0, 0, 0, 0, 0, 0};
     if (comm->me == 0) {
       const auto m = fracdem::balance::calibrate_costs();
