@@ -108,9 +108,15 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
   if (*end || !(threshold_ >= 1.0))
     fail(std::string("thresh must be a number >= 1.0 (max/avg work), got '") + arg[4] + "'");
 
+  std::vector<std::string> seen;
   for (int iarg = 5; iarg < narg; iarg += 2) {
     const std::string key = arg[iarg];
     if (iarg + 1 >= narg) fail("keyword '" + key + "' needs a value");
+    if (key != "insert_region") {
+      if (std::find(seen.begin(), seen.end(), key) != seen.end())
+        fail("keyword '" + key + "' given twice");
+      seen.push_back(key);
+    }
     const std::string val = arg[iarg + 1];
     std::string expected;
     if (key == "model") {

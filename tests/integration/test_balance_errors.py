@@ -26,6 +26,7 @@ cases = [
     ("fix bal all balance/graph 10 1.1 repartition twice", "keyword 'repartition'"),
     ("fix bal all balance/graph 10 1.1 colour red", "unknown keyword 'colour'"),
     ("fix bal all balance/graph 10 1.1 cells 0.5", "keyword 'cells'"),
+    ("fix bal all balance/graph 10 1.1 model apriori model aposteriori", "keyword 'model' given twice"),
     ("fix bal all balance/graph 10 1.1 insert_region nosuch", "no region 'nosuch'"),
     ("fix bal all balance/graph 10 1.1 model", "keyword 'model' needs a value"),
     ("group lower id <= 10\nfix bal lower balance/graph 10 1.1", "group must be 'all'"),
