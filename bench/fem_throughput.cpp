@@ -1,4 +1,5 @@
-// FE throughput benchmark: element-steps per second per core for tet4/tri3/quad4, elastic and corotational.
+// FE throughput benchmark: element-steps per second per core for tet4/tri3/quad4, elastic and
+// corotational.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -38,7 +39,8 @@ int main(int argc, char** argv)
       FeSpace fs;
       fs.build(c.mesh, m);
       std::vector<double> x(c.mesh.X), f(x.size());
-      for (size_t i = 0; i < x.size(); ++i) x[i] += 1e-4 * ((i * 2654435761u) % 1000) / 1000.0;
+      for (size_t i = 0; i < x.size(); ++i)
+        x[i] += 1e-4 * ((i * 2654435761u) % 1000) / 1000.0;
       const int ne = c.mesh.num_elems();
       const int steps = std::max(5, static_cast<int>(2e7 / ne));
       std::vector<double> rates;
@@ -50,16 +52,18 @@ int main(int argc, char** argv)
           std::fill(f.begin(), f.end(), 0.0);
           e += fs.add_internal_forces(c.mesh, x.data(), 0, ne, f.data(), nullptr, &inv);
         }
-        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double sec =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const double rate = double(ne) * steps / sec;
         rates.push_back(rate);
-        fprintf(fp, "%s,%s,%d,%d,%d,%.6f,%.1f\n", c.name, k == Kinematics::SmallStrain ? "elastic" : "corotational",
-                ne, steps, rep, sec, rate);
+        fprintf(fp, "%s,%s,%d,%d,%d,%.6f,%.1f\n", c.name,
+                k == Kinematics::SmallStrain ? "elastic" : "corotational", ne, steps, rep, sec,
+                rate);
         if (e < 0) printf("negative energy?\n"); // keeps the loop from being optimised away
       }
       std::sort(rates.begin(), rates.end());
-      printf("%-6s %-13s %10d %14.2f\n", c.name, k == Kinematics::SmallStrain ? "elastic" : "corotational", ne,
-             rates[2] / 1e6);
+      printf("%-6s %-13s %10d %14.2f\n", c.name,
+             k == Kinematics::SmallStrain ? "elastic" : "corotational", ne, rates[2] / 1e6);
     }
   }
   fclose(fp);

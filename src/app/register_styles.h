@@ -1,11 +1,13 @@
 // Entry point that adds every fracdem style to a freshly constructed LIGGGHTS instance.
 #pragma once
 
-namespace LAMMPS_NS {
+namespace LAMMPS_NS
+{
 class LAMMPS;
 }
 
-namespace fracdem {
+namespace fracdem
+{
 // Must be called after `new LAMMPS(...)` and before any input is read.
 void register_styles(LAMMPS_NS::LAMMPS* lmp);
 } // namespace fracdem

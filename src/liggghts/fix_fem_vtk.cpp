@@ -31,7 +31,10 @@ FixFemVtk::FixFemVtk(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
 
 FixFemVtk::~FixFemVtk() = default;
 
-int FixFemVtk::setmask() { return END_OF_STEP; }
+int FixFemVtk::setmask()
+{
+  return END_OF_STEP;
+}
 
 void FixFemVtk::init()
 {
@@ -48,7 +51,10 @@ void FixFemVtk::setup(int)
   if (update->ntimestep % nevery == 0) write_frame();
 }
 
-void FixFemVtk::end_of_step() { write_frame(); }
+void FixFemVtk::end_of_step()
+{
+  write_frame();
+}
 
 void FixFemVtk::write_frame()
 {
@@ -63,7 +69,8 @@ void FixFemVtk::write_frame()
   const auto& v = body_->velocities();
   const int nn = mesh.num_nodes(), ne = mesh.num_elems();
   std::vector<double> disp(3 * nn);
-  for (int k = 0; k < 3 * nn; ++k) disp[k] = x[k] - mesh.X[k];
+  for (int k = 0; k < 3 * nn; ++k)
+    disp[k] = x[k] - mesh.X[k];
   std::vector<double> stress(6 * ne, 0.0), mises(ne, 0.0), energy_density(ne, 0.0);
   if (!body_->is_rigid()) {
     std::vector<double> elem_energy(ne, 0.0);

@@ -6,13 +6,16 @@
 
 #include "fix.h"
 
-namespace fracdem {
+namespace fracdem
+{
 class PvdSeries;
 }
 
-namespace LAMMPS_NS {
+namespace LAMMPS_NS
+{
 
-class FixFemVtk : public Fix {
+class FixFemVtk : public Fix
+{
 public:
   FixFemVtk(class LAMMPS*, int, char**);
   ~FixFemVtk() override;

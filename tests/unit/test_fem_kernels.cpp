@@ -9,7 +9,8 @@
 
 using namespace fracdem;
 
-namespace {
+namespace
+{
 
 Material steel(Kinematics k = Kinematics::SmallStrain)
 {
@@ -28,7 +29,8 @@ std::vector<double> forces_for_gradient(const Mesh& mesh, const FeSpace& fs, con
   std::vector<double> x(mesh.X), f(mesh.X.size(), 0.0);
   for (int n = 0; n < mesh.num_nodes(); ++n)
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) x[3 * n + i] += G[3 * i + j] * mesh.X[3 * n + j];
+      for (int j = 0; j < 3; ++j)
+        x[3 * n + i] += G[3 * i + j] * mesh.X[3 * n + j];
   int inv = -1;
   double e = fs.add_internal_forces(mesh, x.data(), 0, mesh.num_elems(), f.data(), nullptr, &inv);
   if (energy) *energy = e;
@@ -57,11 +59,13 @@ TEST(FemKernels, Tet4PatchTestInteriorForcesVanishAndStressIsExact)
     const double scale = 2e11 * 1e-4 * (1.0 / 9.0);
     for (int n = 0; n < mesh.num_nodes(); ++n)
       if (!on_boundary(mesh, n))
-        for (int d = 0; d < 3; ++d) EXPECT_NEAR(f[3 * n + d], 0.0, 1e-6 * scale) << "node " << n;
+        for (int d = 0; d < 3; ++d)
+          EXPECT_NEAR(f[3 * n + d], 0.0, 1e-6 * scale) << "node " << n;
     std::vector<double> x(mesh.X);
     for (int n = 0; n < mesh.num_nodes(); ++n)
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) x[3 * n + i] += G[3 * i + j] * mesh.X[3 * n + j];
+        for (int j = 0; j < 3; ++j)
+          x[3 * n + i] += G[3 * i + j] * mesh.X[3 * n + j];
     const double lam = steel().lambda(), mu = steel().mu(), tr = 1e-4 - 3e-5 + 5e-5;
     double s[6];
     fs.element_stress(mesh, x.data(), 7, s);
@@ -83,18 +87,24 @@ TEST(FemKernels, CorotationalIsExactlyInvariantUnderLargeRotation)
   for (int n = 0; n < mesh.num_nodes(); ++n) {
     const double* p = &mesh.X[3 * n];
     const double kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-    const double kxp[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]};
-    for (int d = 0; d < 3; ++d) x[3 * n + d] = p[d] * std::cos(a) + kxp[d] * std::sin(a) + k[d] * kp * (1 - std::cos(a)) + 0.7;
+    const double kxp[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2],
+                           k[0] * p[1] - k[1] * p[0]};
+    for (int d = 0; d < 3; ++d)
+      x[3 * n + d] =
+          p[d] * std::cos(a) + kxp[d] * std::sin(a) + k[d] * kp * (1 - std::cos(a)) + 0.7;
   }
   int inv = -1;
-  const double e = fs.add_internal_forces(mesh, x.data(), 0, mesh.num_elems(), f.data(), nullptr, &inv);
+  const double e =
+      fs.add_internal_forces(mesh, x.data(), 0, mesh.num_elems(), f.data(), nullptr, &inv);
   EXPECT_NEAR(e, 0.0, 1e-6);
-  for (double v : f) EXPECT_NEAR(v, 0.0, 1e-3); // forces of order E * 1e-14 * area
+  for (double v : f)
+    EXPECT_NEAR(v, 0.0, 1e-3); // forces of order E * 1e-14 * area
   // small strain sees the rotation as strain: a large spurious energy
   FeSpace lin;
   lin.build(mesh, steel());
   std::fill(f.begin(), f.end(), 0.0);
-  EXPECT_GT(lin.add_internal_forces(mesh, x.data(), 0, mesh.num_elems(), f.data(), nullptr, &inv), 1e8);
+  EXPECT_GT(lin.add_internal_forces(mesh, x.data(), 0, mesh.num_elems(), f.data(), nullptr, &inv),
+            1e8);
 }
 
 TEST(FemKernels, ForcesAreMinusEnergyGradient)
@@ -124,8 +134,10 @@ TEST(FemKernels, ForcesAreMinusEnergyGradient)
           std::vector<double> xp(x), xm(x);
           xp[k] += h;
           xm[k] -= h;
-          const double ep = fs.add_internal_forces(mesh, xp.data(), 0, mesh.num_elems(), scratch.data(), nullptr, &inv);
-          const double em = fs.add_internal_forces(mesh, xm.data(), 0, mesh.num_elems(), scratch.data(), nullptr, &inv);
+          const double ep = fs.add_internal_forces(mesh, xp.data(), 0, mesh.num_elems(),
+                                                   scratch.data(), nullptr, &inv);
+          const double em = fs.add_internal_forces(mesh, xm.data(), 0, mesh.num_elems(),
+                                                   scratch.data(), nullptr, &inv);
           EXPECT_NEAR(f[k], -(ep - em) / (2 * h), 1e-6 + 1e-5 * std::fabs(f[k]))
               << "type " << int(t) << " kin " << int(kin) << " mode " << int(pm) << " dof " << k;
         }
@@ -143,7 +155,8 @@ TEST(FemKernels, LumpedMassTotals)
   std::vector<double> mass;
   fs.lumped_masses(box, mass);
   double total = 0;
-  for (double v : mass) total += v;
+  for (double v : mass)
+    total += v;
   EXPECT_NEAR(total, 7800 * 0.3 * 0.2 * 0.1, 1e-9);
   for (ElemType t : {ElemType::Tri3, ElemType::Quad4}) {
     Mesh rect = make_rect_mesh(4, 3, 0.4, 0.3, {0.1, 0.0}, t);
@@ -152,13 +165,15 @@ TEST(FemKernels, LumpedMassTotals)
     fs.build(rect, m);
     fs.lumped_masses(rect, mass);
     total = 0;
-    for (double v : mass) total += v;
+    for (double v : mass)
+      total += v;
     EXPECT_NEAR(total, 7800 * 0.4 * 0.3 * 0.05, 1e-9);
     m.plane = PlaneMode::Axisymmetric; // ring r in [0.1, 0.5], height 0.3
     fs.build(rect, m);
     fs.lumped_masses(rect, mass);
     total = 0;
-    for (double v : mass) total += v;
+    for (double v : mass)
+      total += v;
     EXPECT_NEAR(total, 7800 * M_PI * (0.5 * 0.5 - 0.1 * 0.1) * 0.3, 1e-8 * total);
   }
 }
@@ -176,23 +191,29 @@ TEST(FemKernels, StableTimeStepIsSafeAndNotOverlyConservative)
     std::vector<double> u(mesh.X.size()), f(mesh.X.size());
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> U(-1, 1);
-    for (auto& v : u) v = U(rng);
+    for (auto& v : u)
+      v = U(rng);
     double lam = 0;
     int inv = -1;
     for (int it = 0; it < 3000; ++it) {
       std::vector<double> x(mesh.X);
-      for (size_t k = 0; k < x.size(); ++k) x[k] += 1e-9 * u[k];
+      for (size_t k = 0; k < x.size(); ++k)
+        x[k] += 1e-9 * u[k];
       std::fill(f.begin(), f.end(), 0.0);
       fs.add_internal_forces(mesh, x.data(), 0, mesh.num_elems(), f.data(), nullptr, &inv);
       double norm = 0;
       for (size_t k = 0; k < u.size(); ++k) {
-        if (mesh.dim == 2 && k % 3 == 2) { u[k] = 0; continue; }
+        if (mesh.dim == 2 && k % 3 == 2) {
+          u[k] = 0;
+          continue;
+        }
         u[k] = -f[k] / (1e-9 * m[k / 3]);
         norm += u[k] * u[k];
       }
       norm = std::sqrt(norm);
       lam = norm;
-      for (auto& v : u) v /= norm;
+      for (auto& v : u)
+        v /= norm;
     }
     const double dt_exact = 2.0 / std::sqrt(lam);
     const double dt = fs.stable_time_step(mesh, mesh.X.data());
@@ -225,13 +246,17 @@ TEST(FemKernels, BoundaryFacetsAreOutwardAndEncloseTheVolume)
     const double* a = &mesh.X[3 * f.n[0]];
     const double* b = &mesh.X[3 * f.n[1]];
     const double* c = &mesh.X[3 * f.n[2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    for (int d = 0; d < 3; ++d) nsum[d] += n[d];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                 e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    for (int d = 0; d < 3; ++d)
+      nsum[d] += n[d];
     vol += (a[0] * n[0] + a[1] * n[1] + a[2] * n[2]) / 6.0; // divergence theorem
   }
   EXPECT_NEAR(vol, 0.3 * 0.2 * 0.2, 1e-12);
-  for (double v : nsum) EXPECT_NEAR(v, 0.0, 1e-12);
+  for (double v : nsum)
+    EXPECT_NEAR(v, 0.0, 1e-12);
   mesh.active[0] = 0; // erosion exposes new facets
   EXPECT_GT(boundary_facets(mesh).size(), facets.size() - 4);
 }

@@ -1,4 +1,5 @@
-// Unit tests for the structured box/rectangle mesh generators: counts, measure, orientation, conformity, sets.
+// Unit tests for the structured box/rectangle mesh generators: counts, measure, orientation,
+// conformity, sets.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,7 +10,8 @@
 
 using namespace fracdem;
 
-namespace {
+namespace
+{
 
 double tet_volume(const Mesh& m, int e)
 {
@@ -22,7 +24,8 @@ double tet_volume(const Mesh& m, int e)
     w[k] = m.X[3 * c[3] + k] - a[k];
   }
   return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-          u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
+          u[2] * (v[0] * w[1] - v[1] * w[0])) /
+         6.0;
 }
 
 double signed_area(const Mesh& m, int e)
@@ -38,16 +41,19 @@ double signed_area(const Mesh& m, int e)
   return 0.5 * a;
 }
 
-void expect_set_on_plane(const Mesh& m, const std::string& name, int axis, double value, std::size_t count)
+void expect_set_on_plane(const Mesh& m, const std::string& name, int axis, double value,
+                         std::size_t count)
 {
   ASSERT_TRUE(m.node_sets.count(name)) << name;
   const auto& s = m.node_sets.at(name);
   EXPECT_EQ(s.size(), count) << name;
   EXPECT_TRUE(std::is_sorted(s.begin(), s.end())) << name;
-  for (int n : s) EXPECT_NEAR(m.X[3 * n + axis], value, 1e-12) << name << " node " << n;
+  for (int n : s)
+    EXPECT_NEAR(m.X[3 * n + axis], value, 1e-12) << name << " node " << n;
   // ... and every node on that plane is in the set.
   std::size_t on_plane = 0;
-  for (int n = 0; n < m.num_nodes(); ++n) on_plane += std::abs(m.X[3 * n + axis] - value) < 1e-12;
+  for (int n = 0; n < m.num_nodes(); ++n)
+    on_plane += std::abs(m.X[3 * n + axis] - value) < 1e-12;
   EXPECT_EQ(on_plane, count) << name;
 }
 
@@ -125,7 +131,8 @@ TEST(IoGenerators, RectQuadAndTri)
       area += a;
     }
     EXPECT_NEAR(area, lx * ly, 1e-12);
-    for (int n = 0; n < m.num_nodes(); ++n) EXPECT_EQ(m.X[3 * n + 2], 0.0);
+    for (int n = 0; n < m.num_nodes(); ++n)
+      EXPECT_EQ(m.X[3 * n + 2], 0.0);
     expect_set_on_plane(m, "xmin", 0, 0.5, ny + 1);
     expect_set_on_plane(m, "xmax", 0, 0.5 + lx, ny + 1);
     expect_set_on_plane(m, "ymin", 1, -0.25, nx + 1);

@@ -1,4 +1,5 @@
-// Unit tests for the Gmsh reader/writer: formats 2.2 and 4.1, physical groups, 2D orientation, errors.
+// Unit tests for the Gmsh reader/writer: formats 2.2 and 4.1, physical groups, 2D orientation,
+// errors.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -15,15 +16,16 @@
 namespace fs = std::filesystem;
 using namespace fracdem;
 
-namespace {
+namespace
+{
 
 // A fresh directory per test (pid + test name, so parallel ctest runs do not
 // collide); removed afterwards unless the test failed.
 fs::path make_test_dir()
 {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path d = fs::temp_directory_path() /
-               ("fracdem_io_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
+  fs::path d = fs::temp_directory_path() / ("fracdem_io_" + std::to_string(::getpid()) + "_" +
+                                            info->test_suite_name() + "_" + info->name());
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -39,7 +41,8 @@ int line_of(const std::string& text, const std::string& needle, int nth = 1)
     from = pos + 1;
   }
   int line = 1;
-  for (std::size_t i = 0; i < pos; ++i) line += text[i] == '\n';
+  for (std::size_t i = 0; i < pos; ++i)
+    line += text[i] == '\n';
   return line;
 }
 
@@ -248,7 +251,8 @@ double tet_volume(const Mesh& m, int e)
     w[k] = m.X[3 * c[3] + k] - a[k];
   }
   return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-          u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
+          u[2] * (v[0] * w[1] - v[1] * w[0])) /
+         6.0;
 }
 
 double signed_area(const Mesh& m, int e)
@@ -266,7 +270,8 @@ double signed_area(const Mesh& m, int e)
 
 } // namespace
 
-class IoGmsh : public ::testing::Test {
+class IoGmsh : public ::testing::Test
+{
 protected:
   void SetUp() override { dir_ = make_test_dir(); }
   void TearDown() override
@@ -298,10 +303,13 @@ TEST_F(IoGmsh, TwoTets22)
   EXPECT_GT(tet_volume(m, 0), 0);
   EXPECT_GT(tet_volume(m, 1), 0);
 
-  const std::map<std::string, std::vector<int>> nodes = {
-      {"corner", {0}},          {"stray", {}},           {"bottom", {0, 1, 2}},
-      {"physical_9", {0, 1, 3}}, {"left", {0, 1, 2, 3}}, {"right", {1, 2, 3, 4}},
-      {"all body", {0, 1, 2, 3, 4}}};
+  const std::map<std::string, std::vector<int>> nodes = {{"corner", {0}},
+                                                         {"stray", {}},
+                                                         {"bottom", {0, 1, 2}},
+                                                         {"physical_9", {0, 1, 3}},
+                                                         {"left", {0, 1, 2, 3}},
+                                                         {"right", {1, 2, 3, 4}},
+                                                         {"all body", {0, 1, 2, 3, 4}}};
   EXPECT_EQ(m.node_sets, nodes);
   const std::map<std::string, std::vector<int>> elems = {
       {"left", {0}}, {"right", {1}}, {"all body", {0, 1}}};
@@ -320,8 +328,10 @@ TEST_F(IoGmsh, SameMeshFrom22And41)
 TEST_F(IoGmsh, WindowsLineEndings)
 {
   std::string crlf;
-  for (char c : kTwoTets22) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
-  expect_same_mesh(read_gmsh(write_file("a.msh", kTwoTets22)), read_gmsh(write_file("crlf.msh", crlf)));
+  for (char c : kTwoTets22)
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  expect_same_mesh(read_gmsh(write_file("a.msh", kTwoTets22)),
+                   read_gmsh(write_file("crlf.msh", crlf)));
 }
 
 TEST_F(IoGmsh, Mixed2DOrientedCounterClockwise)
@@ -331,7 +341,7 @@ TEST_F(IoGmsh, Mixed2DOrientedCounterClockwise)
   ASSERT_EQ(m.num_nodes(), 6);
   ASSERT_EQ(m.num_elems(), 3);
   EXPECT_EQ(m.etype, (std::vector<ElemType>{ElemType::Quad4, ElemType::Tri3, ElemType::Tri3}));
-  EXPECT_EQ(m.conn[0], (std::array<int, 4>{{0, 1, 4, 3}})); // was 0 3 4 1 (clockwise)
+  EXPECT_EQ(m.conn[0], (std::array<int, 4>{{0, 1, 4, 3}}));  // was 0 3 4 1 (clockwise)
   EXPECT_EQ(m.conn[1], (std::array<int, 4>{{1, 2, 4, -1}})); // was 1 4 2 (clockwise)
   EXPECT_EQ(m.conn[2], (std::array<int, 4>{{2, 5, 4, -1}})); // already counter-clockwise
   EXPECT_DOUBLE_EQ(signed_area(m, 0), 1.0);
@@ -351,7 +361,8 @@ TEST_F(IoGmsh, RoundTripWriteGmsh22Box)
 {
   Mesh m = make_box_tet_mesh(2, 1, 1, 2.0, 1.0, 0.7, {0.1, -0.2, 0.3});
   ASSERT_EQ(m.num_elems(), 12);
-  for (int e = 0; e < 12; ++e) m.region[e] = e < 6 ? 1 : 2;
+  for (int e = 0; e < 12; ++e)
+    m.region[e] = e < 6 ? 1 : 2;
   m.elem_sets["left"] = {0, 1, 2, 3, 4, 5};
   m.elem_sets["right"] = {6, 7, 8, 9, 10, 11};
   m.elem_sets["mixed"] = {0, 7}; // not a region: written as repeated elements
@@ -370,7 +381,8 @@ TEST_F(IoGmsh, RoundTripWriteGmsh22Box)
   }
   std::set<int> mixed_nodes;
   for (int e : m.elem_sets.at("mixed"))
-    for (int k = 0; k < 4; ++k) mixed_nodes.insert(m.conn[e][k]);
+    for (int k = 0; k < 4; ++k)
+      mixed_nodes.insert(m.conn[e][k]);
   EXPECT_EQ(r.node_sets.at("mixed"), std::vector<int>(mixed_nodes.begin(), mixed_nodes.end()));
 }
 
@@ -424,22 +436,28 @@ TEST_F(IoGmsh, ErrorDuplicateNodeTag)
   const std::string text = replace_once(kTwoTets22, "35 5 5 5", "20 5 5 5");
   const std::string path = write_file("bad.msh", text);
   const std::string msg = read_error(path);
-  EXPECT_NE(msg.find(path + ":" + std::to_string(line_of(text, "20 1 0 0")) + ": duplicate node tag 20"),
-            std::string::npos) << msg;
+  EXPECT_NE(
+      msg.find(path + ":" + std::to_string(line_of(text, "20 1 0 0")) + ": duplicate node tag 20"),
+      std::string::npos)
+      << msg;
   EXPECT_NE(msg.find("first defined on line " + std::to_string(line_of(text, "20 5 5 5"))),
-            std::string::npos) << msg;
+            std::string::npos)
+      << msg;
 }
 
 TEST_F(IoGmsh, ErrorUnknownNode)
 {
   for (const auto& [base, from, to] :
-       {std::tuple{kTwoTets22, std::string("7 4 2 8 2 20 30 40 50"), std::string("7 4 2 8 2 20 30 40 99")},
+       {std::tuple{kTwoTets22, std::string("7 4 2 8 2 20 30 40 50"),
+                   std::string("7 4 2 8 2 20 30 40 99")},
         std::tuple{kTwoTets41, std::string("7 20 30 40 50"), std::string("7 20 30 40 99")}}) {
     const std::string text = replace_once(base, from, to);
     const std::string path = write_file("bad.msh", text);
     const std::string msg = read_error(path);
-    EXPECT_NE(msg.find(path + ":" + std::to_string(line_of(text, to)) + ": element references unknown node tag 99"),
-              std::string::npos) << msg;
+    EXPECT_NE(msg.find(path + ":" + std::to_string(line_of(text, to)) +
+                       ": element references unknown node tag 99"),
+              std::string::npos)
+        << msg;
   }
 }
 
@@ -450,12 +468,15 @@ TEST_F(IoGmsh, ErrorTruncatedSection)
   const std::string msg = read_error(path);
   EXPECT_NE(msg.find(path + ":" + std::to_string(line_of(text, "30 0 1 0")) +
                      ": unexpected end of file in $Nodes: expected 6 nodes, got 4"),
-            std::string::npos) << msg;
+            std::string::npos)
+      << msg;
   // 4.1: file ends inside an element block.
   const std::string t41 = kTwoTets41.substr(0, kTwoTets41.find("7 20 30 40 50"));
   const std::string msg41 = read_error(write_file("bad41.msh", t41));
-  EXPECT_NE(msg41.find("unexpected end of file in $Elements: expected 1 elements in this block, got 0"),
-            std::string::npos) << msg41;
+  EXPECT_NE(
+      msg41.find("unexpected end of file in $Elements: expected 1 elements in this block, got 0"),
+      std::string::npos)
+      << msg41;
 }
 
 TEST_F(IoGmsh, ErrorMissingEnd)
@@ -471,7 +492,8 @@ TEST_F(IoGmsh, ErrorMissingEnd)
   const std::string msg3 = read_error(write_file("bad3.msh", t3));
   EXPECT_NE(msg3.find("expected $EndComments closing the section opened on line " +
                       std::to_string(line_of(t3, "$Comments"))),
-            std::string::npos) << msg3;
+            std::string::npos)
+      << msg3;
 }
 
 TEST_F(IoGmsh, ErrorNonNumericField)
@@ -492,19 +514,27 @@ TEST_F(IoGmsh, ErrorUnsupportedBodyElementTypes)
     std::string line;
     std::string expect;
   };
-  for (const Case& c : {Case{"5 11 2 7 1 10 20 30 40 10 20 30 40 50 35", "element type 11 (tet10) is not supported for a 3D body; supported: 4 (tet4)"},
-                        Case{"5 5 2 7 1 10 20 30 40 50 35 10 20", "element type 5 (hex8) is not supported for a 3D body; supported: 4 (tet4)"},
-                        Case{"5 6 2 7 1 10 20 30 40 50 35", "element type 6 (prism6)"}}) {
+  for (const Case& c :
+       {Case{"5 11 2 7 1 10 20 30 40 10 20 30 40 50 35",
+             "element type 11 (tet10) is not supported for a 3D body; supported: 4 (tet4)"},
+        Case{"5 5 2 7 1 10 20 30 40 50 35 10 20",
+             "element type 5 (hex8) is not supported for a 3D body; supported: 4 (tet4)"},
+        Case{"5 6 2 7 1 10 20 30 40 50 35", "element type 6 (prism6)"}}) {
     const std::string text = replace_once(kTwoTets22, "5 4 2 7 1 10 20 30 40", c.line);
     const std::string path = write_file("bad.msh", text);
     const std::string msg = read_error(path);
-    EXPECT_EQ(msg.find(path + ":" + std::to_string(line_of(text, c.line)) + ": " + c.expect), 0u) << msg;
+    EXPECT_EQ(msg.find(path + ":" + std::to_string(line_of(text, c.line)) + ": " + c.expect), 0u)
+        << msg;
   }
   const std::string text = replace_once(kMixed2D22, "3 2 2 2 1 2 5 3", "3 9 2 2 1 2 5 3 1 4 6");
   const std::string msg = read_error(write_file("bad2d.msh", text));
-  EXPECT_NE(msg.find("element type 9 (tri6) is not supported for a 2D body; supported: 2 (tri3), 3 (quad4)"),
-            std::string::npos) << msg;
-  const std::string t3 = replace_once(kTwoTets22, "5 4 2 7 1 10 20 30 40", "5 77 2 7 1 10 20 30 40");
+  EXPECT_NE(
+      msg.find(
+          "element type 9 (tri6) is not supported for a 2D body; supported: 2 (tri3), 3 (quad4)"),
+      std::string::npos)
+      << msg;
+  const std::string t3 =
+      replace_once(kTwoTets22, "5 4 2 7 1 10 20 30 40", "5 77 2 7 1 10 20 30 40");
   const std::string msg3 = read_error(write_file("bad3.msh", t3));
   EXPECT_NE(msg3.find("unknown element type 77"), std::string::npos) << msg3;
 }
@@ -535,7 +565,9 @@ TEST_F(IoGmsh, ErrorEmptyBodyAndWrongDim)
                         "1D (1 elements), 2D (3 elements)");
   const std::string p2 = write_file("two.msh", kTwoTets41);
   const std::string m2 = read_error(p2, 2);
-  EXPECT_NE(m2.find("dim = 2 was requested but the file has 2 elements of dimension 3"), std::string::npos) << m2;
+  EXPECT_NE(m2.find("dim = 2 was requested but the file has 2 elements of dimension 3"),
+            std::string::npos)
+      << m2;
   // Only lines and points: auto finds no body.
   const std::string lines = R"($MeshFormat
 2.2 0 8
@@ -551,7 +583,8 @@ $Elements
 $EndElements
 )";
   const std::string m3 = read_error(write_file("lines.msh", lines));
-  EXPECT_NE(m3.find("looked for dimension 3 or 2 (auto), found 1D (1 elements)"), std::string::npos) << m3;
+  EXPECT_NE(m3.find("looked for dimension 3 or 2 (auto), found 1D (1 elements)"), std::string::npos)
+      << m3;
   EXPECT_NE(read_error(p2, 1).find("dim must be 0 (auto), 2 or 3"), std::string::npos);
 }
 
@@ -560,7 +593,9 @@ TEST_F(IoGmsh, Error2DOutOfPlane)
   const std::string text = replace_once(kMixed2D22, "5 1 1 0", "5 1 1 0.001");
   const std::string path = write_file("bad.msh", text);
   const std::string msg = read_error(path);
-  EXPECT_EQ(msg.find(path + ":" + std::to_string(line_of(text, "5 1 1 0.001")) + ": node 5 has z = 0.001"), 0u)
+  EXPECT_EQ(msg.find(path + ":" + std::to_string(line_of(text, "5 1 1 0.001")) +
+                     ": node 5 has z = 0.001"),
+            0u)
       << msg;
   // Round-off far below 1e-12 * size is accepted and cleaned to exactly 0.
   const std::string ok = replace_once(kMixed2D22, "5 1 1 0", "5 1 1 1e-15");
@@ -575,6 +610,7 @@ TEST_F(IoGmsh, ErrorMissingFileAndSections)
   const std::string no_elems = kTwoTets22.substr(0, kTwoTets22.find("$Elements"));
   const std::string p2 = write_file("noelem.msh", no_elems);
   EXPECT_EQ(read_error(p2), p2 + ": no $Elements section");
-  const std::string p3 = write_file("part.msh", replace_once(kTwoTets41, "$Entities", "$PartitionedEntities"));
+  const std::string p3 =
+      write_file("part.msh", replace_once(kTwoTets41, "$Entities", "$PartitionedEntities"));
   EXPECT_NE(read_error(p3).find("partitioned Gmsh meshes are not supported"), std::string::npos);
 }

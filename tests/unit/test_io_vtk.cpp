@@ -22,15 +22,16 @@
 namespace fs = std::filesystem;
 using namespace fracdem;
 
-namespace {
+namespace
+{
 
 // A fresh directory per test (pid + test name, so parallel ctest runs do not
 // collide); removed afterwards unless the test failed.
 fs::path make_test_dir()
 {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path d = fs::temp_directory_path() /
-               ("fracdem_io_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
+  fs::path d = fs::temp_directory_path() / ("fracdem_io_" + std::to_string(::getpid()) + "_" +
+                                            info->test_suite_name() + "_" + info->name());
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -54,7 +55,8 @@ std::string slurp(const fs::path& p)
 
 } // namespace
 
-class IoVtk : public ::testing::Test {
+class IoVtk : public ::testing::Test
+{
 protected:
   void SetUp() override { dir_ = make_test_dir(); }
   void TearDown() override
@@ -65,7 +67,8 @@ protected:
   fs::path dir_;
 };
 
-class IoPvd : public ::testing::Test {
+class IoPvd : public ::testing::Test
+{
 protected:
   void SetUp() override { dir_ = make_test_dir(); }
   void TearDown() override
@@ -83,12 +86,15 @@ TEST_F(IoVtk, TetMeshFieldsAndInactiveElementOmitted)
   m.active[2] = 0;
   const int nn = m.num_nodes(), ne = m.num_elems();
   std::vector<double> x(m.X);
-  for (int i = 0; i < nn; ++i) x[3 * i] += 0.25 * m.X[3 * i + 2]; // sheared current configuration
+  for (int i = 0; i < nn; ++i)
+    x[3 * i] += 0.25 * m.X[3 * i + 2]; // sheared current configuration
   std::vector<double> disp(3 * nn), damage(ne), stress(6 * ne);
-  for (int k = 0; k < 3 * nn; ++k) disp[k] = x[k] - m.X[k];
+  for (int k = 0; k < 3 * nn; ++k)
+    disp[k] = x[k] - m.X[k];
   for (int e = 0; e < ne; ++e) {
     damage[e] = 0.1 * e;
-    for (int c = 0; c < 6; ++c) stress[6 * e + c] = 10.0 * e + c;
+    for (int c = 0; c < 6; ++c)
+      stress[6 * e + c] = 10.0 * e + c;
   }
   const std::string path = (dir_ / "tets.vtu").string();
   write_vtu(path, m, x.data(),
@@ -100,11 +106,13 @@ TEST_F(IoVtk, TetMeshFieldsAndInactiveElementOmitted)
   auto g = read_vtu(path);
   ASSERT_EQ(g->GetNumberOfPoints(), nn);
   ASSERT_EQ(g->GetNumberOfCells(), ne - 1);
-  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) EXPECT_EQ(g->GetCellType(c), VTK_TETRA);
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c)
+    EXPECT_EQ(g->GetCellType(c), VTK_TETRA);
   for (int i = 0; i < nn; ++i) {
     double p[3];
     g->GetPoint(i, p);
-    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(p[k], x[3 * i + k]);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_DOUBLE_EQ(p[k], x[3 * i + k]);
   }
   vtkDataArray* id = g->GetCellData()->GetArray("element_id");
   vtkDataArray* region = g->GetCellData()->GetArray("region");
@@ -121,15 +129,18 @@ TEST_F(IoVtk, TetMeshFieldsAndInactiveElementOmitted)
     EXPECT_EQ(id->GetComponent(c, 0), e);
     EXPECT_EQ(region->GetComponent(c, 0), m.region[e]);
     EXPECT_DOUBLE_EQ(dmg->GetComponent(c, 0), damage[e]);
-    for (int k = 0; k < 6; ++k) EXPECT_DOUBLE_EQ(sig->GetComponent(c, k), stress[6 * e + k]);
+    for (int k = 0; k < 6; ++k)
+      EXPECT_DOUBLE_EQ(sig->GetComponent(c, k), stress[6 * e + k]);
     vtkIdType npts;
     const vtkIdType* pts;
     g->GetCellPoints(c, npts, pts);
     ASSERT_EQ(npts, 4);
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(pts[k], m.conn[e][k]);
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(pts[k], m.conn[e][k]);
   }
   for (int i = 0; i < nn; ++i)
-    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(u->GetComponent(i, k), disp[3 * i + k]);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_DOUBLE_EQ(u->GetComponent(i, k), disp[3 * i + k]);
 }
 
 TEST_F(IoVtk, MixedTriQuadCellTypes)
@@ -202,21 +213,25 @@ TEST_F(IoPvd, SeriesListsEntriesRelativeToPvd)
   // Valid after the first entry already (a killed run keeps its series).
   std::string text = slurp(pvd);
   EXPECT_NE(text.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"frames/run_0.vtu\"/>"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("</VTKFile>"), std::string::npos);
   write_vtu(f1, m, nullptr, {});
   series.add(0.1, f1);
   text = slurp(pvd);
   EXPECT_NE(text.find("file=\"frames/run_0.vtu\""), std::string::npos) << text;
-  EXPECT_NE(text.find("<DataSet timestep=\"0.1\" group=\"\" part=\"0\" file=\"frames/run_1.vtu\"/>"),
-            std::string::npos) << text;
+  EXPECT_NE(
+      text.find("<DataSet timestep=\"0.1\" group=\"\" part=\"0\" file=\"frames/run_1.vtu\"/>"),
+      std::string::npos)
+      << text;
   EXPECT_LT(text.find("run_0.vtu"), text.find("run_1.vtu"));
   EXPECT_FALSE(fs::exists(pvd + ".tmp"));
   ASSERT_EQ(series.entries().size(), 2u);
   EXPECT_EQ(series.entries()[1].first, 0.1);
   EXPECT_EQ(series.entries()[1].second, "frames/run_1.vtu");
   // The listed names resolve from the pvd's directory.
-  for (const auto& e : series.entries()) EXPECT_TRUE(fs::exists(dir / e.second)) << e.second;
+  for (const auto& e : series.entries())
+    EXPECT_TRUE(fs::exists(dir / e.second)) << e.second;
 }
 
 TEST_F(IoPvd, RelativePathsFromWorkingDirectory)

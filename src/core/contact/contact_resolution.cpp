@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
+namespace
+{
 inline std::uint64_t edge_key(int a, int b)
 {
   if (a > b) std::swap(a, b);
@@ -17,7 +19,8 @@ void feature_nodes(const FacetHit& h, int out[3], int* m)
 {
   if (h.cp.kind == Feature::Face) {
     *m = h.nn;
-    for (int k = 0; k < h.nn; ++k) out[k] = h.nodes[k];
+    for (int k = 0; k < h.nn; ++k)
+      out[k] = h.nodes[k];
   } else if (h.cp.kind == Feature::Edge) {
     *m = 2;
     out[0] = h.nodes[h.cp.local];
@@ -56,7 +59,8 @@ bool edge_region(const FacetHit& h, const double q[3], const double* x, const Su
     // in-plane direction from the apex across the edge, perpendicular to the edge
     double s[3] = {pa[0] - pw[0], pa[1] - pw[1], pa[2] - pw[2]};
     const double se = (s[0] * e[0] + s[1] * e[1] + s[2] * e[2]) / ee;
-    for (int k = 0; k < 3; ++k) s[k] -= se * e[k];
+    for (int k = 0; k < 3; ++k)
+      s[k] -= se * e[k];
     const double sl = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
     if (sl == 0) continue;
     if ((d[0] * s[0] + d[1] * s[1] + d[2] * s[2]) / sl < -kTol * dl) return false;
@@ -142,12 +146,14 @@ std::vector<FacetHit> resolve_sphere_hits(std::vector<FacetHit> hits, const doub
 
 } // namespace fracdem
 
-namespace fracdem {
+namespace fracdem
+{
 
 std::vector<std::vector<int>> cluster_hits(const double* nrm, const double* ov, int n, double cmax)
 {
   std::vector<int> order(n);
-  for (int i = 0; i < n; ++i) order[i] = i;
+  for (int i = 0; i < n; ++i)
+    order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ov[a] > ov[b]; });
   std::vector<std::vector<int>> clusters;
   for (int i : order) {

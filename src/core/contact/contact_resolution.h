@@ -8,7 +8,8 @@
 #include "contact/geometry.h"
 #include "fem/mesh.h"
 
-namespace fracdem {
+namespace fracdem
+{
 
 struct FacetHit {
   int facet;
@@ -19,8 +20,9 @@ struct FacetHit {
 
 // Adjacency of the boundary surface, rebuilt whenever the facets change (fracture, erosion).
 struct SurfaceTopology {
-  std::vector<std::vector<int>> node_neighbors;                  // nodes joined by a facet edge
-  std::unordered_map<std::uint64_t, std::vector<int>> edge_apex; // edge -> opposite node per triangle
+  std::vector<std::vector<int>> node_neighbors; // nodes joined by a facet edge
+  std::unordered_map<std::uint64_t, std::vector<int>>
+      edge_apex; // edge -> opposite node per triangle
   void build(const std::vector<Facet>& facets, int nnodes);
 };
 
@@ -38,7 +40,8 @@ std::uint64_t feature_key(const FacetHit& hit);
 
 } // namespace fracdem
 
-namespace fracdem {
+namespace fracdem
+{
 
 // Groups one sphere's kept hits into physical contacts. A sphere pressed into a finely meshed
 // body touches many facets of one dimple: applying a point law per facet would count the

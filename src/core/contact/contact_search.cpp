@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
+namespace
+{
 inline bool overlap(const Aabb& f, const double* s, double h_f, double r_s)
 {
   for (int d = 0; d < 3; ++d)
@@ -48,11 +50,13 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
   const double reach = rmax + buffer_;
   double ext = 0;
   for (const Aabb& b : boxes)
-    for (int d = 0; d < 3; ++d) ext = std::max(ext, b.hi[d] - b.lo[d]);
+    for (int d = 0; d < 3; ++d)
+      ext = std::max(ext, b.hi[d] - b.lo[d]);
   // Cell: at least a sphere's reach; at most the largest facet extent unless that is smaller.
   double cell = std::max(2 * reach, 1e-300);
   double avg = 0;
-  for (const Aabb& b : boxes) avg += std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
+  for (const Aabb& b : boxes)
+    avg += std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
   avg /= nf;
   cell = std::max(cell, avg);
   int n[3];
@@ -66,7 +70,8 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
   const long long cap = 8LL * (nf + ns) + 64;
   while (static_cast<long long>(n[0]) * n[1] * n[2] > cap) {
     cell *= 1.5;
-    for (int d = 0; d < 3; ++d) n[d] = std::max(1, static_cast<int>(std::ceil((hi[d] - lo[d]) / cell)));
+    for (int d = 0; d < 3; ++d)
+      n[d] = std::max(1, static_cast<int>(std::ceil((hi[d] - lo[d]) / cell)));
   }
   total = static_cast<long long>(n[0]) * n[1] * n[2];
   auto cell_range = [&](double a, double b, int d, int& i0, int& i1) {
@@ -92,9 +97,11 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
     }
     for (int k = r[4]; k <= r[5]; ++k)
       for (int j = r[2]; j <= r[3]; ++j)
-        for (int i = r[0]; i <= r[1]; ++i) ++bin_start_[(static_cast<long long>(k) * n[1] + j) * n[0] + i + 1];
+        for (int i = r[0]; i <= r[1]; ++i)
+          ++bin_start_[(static_cast<long long>(k) * n[1] + j) * n[0] + i + 1];
   }
-  for (long long b = 0; b < total; ++b) bin_start_[b + 1] += bin_start_[b];
+  for (long long b = 0; b < total; ++b)
+    bin_start_[b + 1] += bin_start_[b];
   bin_items_.assign(bin_start_[total], 0);
   std::vector<int> fill(bin_start_.begin(), bin_start_.end() - 1);
   for (int f = 0; f < nf; ++f) {
@@ -102,7 +109,8 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
     if (r[0] > r[1]) continue;
     for (int k = r[4]; k <= r[5]; ++k)
       for (int j = r[2]; j <= r[3]; ++j)
-        for (int i = r[0]; i <= r[1]; ++i) bin_items_[fill[(static_cast<long long>(k) * n[1] + j) * n[0] + i]++] = f;
+        for (int i = r[0]; i <= r[1]; ++i)
+          bin_items_[fill[(static_cast<long long>(k) * n[1] + j) * n[0] + i]++] = f;
   }
   stamp_.assign(nf, -1);
   std::vector<int> found;
@@ -110,7 +118,8 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
     const double* c = sxr + 4 * s;
     const double rs = c[3] + hb;
     int r[6];
-    for (int d = 0; d < 3; ++d) cell_range(c[d] - rs, c[d] + rs, d, r[2 * d], r[2 * d + 1]);
+    for (int d = 0; d < 3; ++d)
+      cell_range(c[d] - rs, c[d] + rs, d, r[2 * d], r[2 * d + 1]);
     found.clear();
     for (int k = r[4]; k <= r[5]; ++k)
       for (int j = r[2]; j <= r[3]; ++j)
@@ -124,23 +133,29 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
           }
         }
     std::sort(found.begin(), found.end());
-    for (int f : found) candidates_.emplace_back(s, f);
+    for (int f : found)
+      candidates_.emplace_back(s, f);
   }
 }
 
-void BufferedSearch::remember_positions(const double* node_x, int nnodes, const double* sphere_x, int ns)
+void BufferedSearch::remember_positions(const double* node_x, int nnodes, const double* sphere_x,
+                                        int ns)
 {
   node_x0_.assign(node_x, node_x + 3 * nnodes);
   sphere_x0_.assign(sphere_x, sphere_x + 3 * ns);
 }
 
-bool BufferedSearch::needs_rebuild(const double* node_x, int nnodes, const double* sphere_x, int ns) const
+bool BufferedSearch::needs_rebuild(const double* node_x, int nnodes, const double* sphere_x,
+                                   int ns) const
 {
-  if (static_cast<int>(node_x0_.size()) != 3 * nnodes || static_cast<int>(sphere_x0_.size()) != 3 * ns)
+  if (static_cast<int>(node_x0_.size()) != 3 * nnodes ||
+      static_cast<int>(sphere_x0_.size()) != 3 * ns)
     return true;
   double dn = 0, ds = 0;
-  for (int k = 0; k < 3 * nnodes; ++k) dn = std::max(dn, std::fabs(node_x[k] - node_x0_[k]));
-  for (int k = 0; k < 3 * ns; ++k) ds = std::max(ds, std::fabs(sphere_x[k] - sphere_x0_[k]));
+  for (int k = 0; k < 3 * nnodes; ++k)
+    dn = std::max(dn, std::fabs(node_x[k] - node_x0_[k]));
+  for (int k = 0; k < 3 * ns; ++k)
+    ds = std::max(ds, std::fabs(sphere_x[k] - sphere_x0_[k]));
   return dn + ds > buffer_;
 }
 

@@ -4,7 +4,8 @@
 #include <utility>
 #include <vector>
 
-namespace fracdem {
+namespace fracdem
+{
 
 struct Aabb {
   double lo[3], hi[3];
@@ -14,7 +15,8 @@ struct Aabb {
 // missed once the relative approach exceeds `buffer`. The relative approach per axis is at most
 // (largest sphere displacement) + (largest node displacement) since the build, which is what
 // needs_rebuild() compares with the buffer: the search is redone only when that bound is used up.
-class BufferedSearch {
+class BufferedSearch
+{
 public:
   explicit BufferedSearch(double buffer) : buffer_(buffer) {}
   void build(const std::vector<Aabb>& facet_boxes, const double* sphere_xr, int nspheres);

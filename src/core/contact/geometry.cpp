@@ -1,10 +1,15 @@
 // Closest-point queries used by particle-facet contact detection.
 #include "contact/geometry.h"
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
-inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+namespace
+{
+inline double dot(const double* a, const double* b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 ClosestPoint make(const double q[3], const double* a, const double* b, const double* c, double u,
                   double v, double w, Feature kind, int local)
@@ -13,11 +18,13 @@ ClosestPoint make(const double q[3], const double* a, const double* b, const dou
   r.w[0] = u;
   r.w[1] = v;
   r.w[2] = w;
-  for (int d = 0; d < 3; ++d) r.p[d] = u * a[d] + v * b[d] + (c ? w * c[d] : 0.0);
+  for (int d = 0; d < 3; ++d)
+    r.p[d] = u * a[d] + v * b[d] + (c ? w * c[d] : 0.0);
   r.kind = kind;
   r.local = local;
   r.dist2 = 0;
-  for (int d = 0; d < 3; ++d) r.dist2 += (q[d] - r.p[d]) * (q[d] - r.p[d]);
+  for (int d = 0; d < 3; ++d)
+    r.dist2 += (q[d] - r.p[d]) * (q[d] - r.p[d]);
   return r;
 }
 } // namespace

@@ -3,16 +3,17 @@
 
 #include <cstdint>
 
-namespace fracdem {
+namespace fracdem
+{
 
 enum class Feature : std::uint8_t { Face, Edge, Vertex };
 
 struct ClosestPoint {
-  double p[3];    // closest point
-  double w[3];    // barycentric weights of p on the facet nodes (2 used for segments)
-  Feature kind;   // where p lies
-  int local;      // edge k = nodes (k, k+1 mod 3), or vertex index; -1 for Face
-  double dist2;   // squared distance from the query point
+  double p[3];  // closest point
+  double w[3];  // barycentric weights of p on the facet nodes (2 used for segments)
+  Feature kind; // where p lies
+  int local;    // edge k = nodes (k, k+1 mod 3), or vertex index; -1 for Face
+  double dist2; // squared distance from the query point
 };
 
 // Ericson's Voronoi-region method (Real-Time Collision Detection, 5.1.5); degenerate

@@ -1,4 +1,5 @@
-// Precomputed reference-configuration element data and the explicit FE kernels (forces, stress, dt).
+// Precomputed reference-configuration element data and the explicit FE kernels (forces, stress,
+// dt).
 #pragma once
 
 #include <stdexcept>
@@ -8,7 +9,8 @@
 #include "fem/material.h"
 #include "fem/mesh.h"
 
-namespace fracdem {
+namespace fracdem
+{
 
 // Set-up error that names the offending element (0-based index) in its message and in `elem`.
 struct FeError : std::runtime_error {
@@ -20,9 +22,10 @@ struct FeError : std::runtime_error {
 //   Tet4  : constant strain, one point.
 //   Tri3  : constant strain, one point (axisymmetric: hoop strain at the centroid).
 //   Quad4 : bilinear, 2x2 Gauss, B-bar (volume-averaged dilatation) against volumetric locking.
-// Kinematics::Corotational: polar rotation R of F per element / Gauss point, P = R sigma(R^T F - I);
-// exactly invariant under rigid rotation and f = -dE/dx exactly (isotropic material).
-class FeSpace {
+// Kinematics::Corotational: polar rotation R of F per element / Gauss point, P = R sigma(R^T F -
+// I); exactly invariant under rigid rotation and f = -dE/dx exactly (isotropic material).
+class FeSpace
+{
 public:
   // Precomputes shape-function gradients, integration weights and measures. Throws FeError on
   // inverted or degenerate elements, on elements of the wrong dimension, and for axisymmetric
@@ -42,7 +45,8 @@ public:
                              double* elem_energy, int* first_inverted) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
-  // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R (corotational).
+  // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R
+  // (corotational).
   void element_stress(const Mesh& mesh, const double* x, int e, double sigma[6]) const;
   static double von_mises(const double s[6]);
 
@@ -64,9 +68,9 @@ private:
   Material mat_;
   bool axisym_ = false;
   int dim_ = 3;
-  std::vector<int> offset_;      // start of element e's block in geo_
-  std::vector<double> geo_;      // per element: see fe_space.cpp for the block layouts
-  std::vector<double> measure_;  // reference volume (3D) or area (2D)
+  std::vector<int> offset_;     // start of element e's block in geo_
+  std::vector<double> geo_;     // per element: see fe_space.cpp for the block layouts
+  std::vector<double> measure_; // reference volume (3D) or area (2D)
 };
 
 } // namespace fracdem

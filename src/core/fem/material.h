@@ -4,7 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
-namespace fracdem {
+namespace fracdem
+{
 
 enum class Kinematics : std::uint8_t { SmallStrain, Corotational };
 enum class PlaneMode : std::uint8_t { PlaneStrain, Axisymmetric }; // only for 2D elements

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <tuple>
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
+namespace
+{
 // Outward-oriented faces of a positively oriented tet (0,1,2,3): face k is opposite node 3-k.
 const int kTetFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
 } // namespace
@@ -31,7 +33,8 @@ std::vector<Facet> boundary_facets(const Mesh& mesh)
     } else {
       const int n = nodes_per_elem(mesh.etype[e]);
       for (int k = 0; k < n; ++k) {
-        std::array<int, 3> key = {std::min(c[k], c[(k + 1) % n]), std::max(c[k], c[(k + 1) % n]), -1};
+        std::array<int, 3> key = {std::min(c[k], c[(k + 1) % n]), std::max(c[k], c[(k + 1) % n]),
+                                  -1};
         all.push_back({key, e, k});
       }
     }
@@ -42,7 +45,8 @@ std::vector<Facet> boundary_facets(const Mesh& mesh)
   std::vector<Facet> out;
   for (size_t i = 0; i < all.size();) {
     size_t j = i + 1;
-    while (j < all.size() && all[j].key == all[i].key) ++j;
+    while (j < all.size() && all[j].key == all[i].key)
+      ++j;
     if (j == i + 1) {
       const Entry& en = all[i];
       const auto& c = mesh.conn[en.elem];
@@ -51,7 +55,8 @@ std::vector<Facet> boundary_facets(const Mesh& mesh)
       f.local_face = en.local;
       if (mesh.etype[en.elem] == ElemType::Tet4) {
         f.nn = 3;
-        for (int q = 0; q < 3; ++q) f.n[q] = c[kTetFaces[en.local][q]];
+        for (int q = 0; q < 3; ++q)
+          f.n[q] = c[kTetFaces[en.local][q]];
       } else {
         const int n = nodes_per_elem(mesh.etype[en.elem]);
         f.nn = 2;

@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-namespace fracdem {
+namespace fracdem
+{
 
 // Linear element families supported by the kernels. Values are stable (used in
 // restart files and VTK cell-type mapping).
@@ -16,14 +17,20 @@ enum class ElemType : std::uint8_t { Tri3 = 0, Quad4 = 1, Tet4 = 2 };
 inline int nodes_per_elem(ElemType t)
 {
   switch (t) {
-    case ElemType::Tri3: return 3;
-    case ElemType::Quad4: return 4;
-    case ElemType::Tet4: return 4;
+  case ElemType::Tri3:
+    return 3;
+  case ElemType::Quad4:
+    return 4;
+  case ElemType::Tet4:
+    return 4;
   }
   return 0;
 }
 
-inline int elem_dim(ElemType t) { return t == ElemType::Tet4 ? 3 : 2; }
+inline int elem_dim(ElemType t)
+{
+  return t == ElemType::Tet4 ? 3 : 2;
+}
 
 // Plain-data mesh. Topology is deliberately kept mutable: fracture will split
 // nodes (append to X, rewrite conn entries), erosion clears `active`, and the
@@ -46,7 +53,8 @@ struct Mesh {
   int num_active_elems() const
   {
     int n = 0;
-    for (auto a : active) n += a ? 1 : 0;
+    for (auto a : active)
+      n += a ? 1 : 0;
     return n;
   }
 };

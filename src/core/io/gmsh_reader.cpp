@@ -17,8 +17,10 @@
 #include <utility>
 #include <vector>
 
-namespace fracdem {
-namespace {
+namespace fracdem
+{
+namespace
+{
 
 // Gmsh element types we need to recognise: every type must be known so a line
 // can be checked for its node count and sorted by dimension, even when it is
@@ -31,17 +33,17 @@ struct GmshType {
 };
 
 constexpr GmshType kGmshTypes[] = {
-    {1, "line2", 1, 2},      {2, "tri3", 2, 3},       {3, "quad4", 2, 4},
-    {4, "tet4", 3, 4},       {5, "hex8", 3, 8},       {6, "prism6", 3, 6},
-    {7, "pyramid5", 3, 5},   {8, "line3", 1, 3},      {9, "tri6", 2, 6},
-    {10, "quad9", 2, 9},     {11, "tet10", 3, 10},    {12, "hex27", 3, 27},
-    {13, "prism18", 3, 18},  {14, "pyramid14", 3, 14}, {15, "point", 0, 1},
-    {16, "quad8", 2, 8},     {17, "hex20", 3, 20},    {18, "prism15", 3, 15},
-    {19, "pyramid13", 3, 13}, {20, "tri9", 2, 9},     {21, "tri10", 2, 10},
-    {22, "tri12", 2, 12},    {23, "tri15", 2, 15},    {24, "tri15i", 2, 15},
-    {25, "tri21", 2, 21},    {26, "line4", 1, 4},     {27, "line5", 1, 5},
-    {28, "line6", 1, 6},     {29, "tet20", 3, 20},    {30, "tet35", 3, 35},
-    {31, "tet56", 3, 56},    {92, "hex64", 3, 64},    {93, "hex125", 3, 125},
+    {1, "line2", 1, 2},       {2, "tri3", 2, 3},        {3, "quad4", 2, 4},
+    {4, "tet4", 3, 4},        {5, "hex8", 3, 8},        {6, "prism6", 3, 6},
+    {7, "pyramid5", 3, 5},    {8, "line3", 1, 3},       {9, "tri6", 2, 6},
+    {10, "quad9", 2, 9},      {11, "tet10", 3, 10},     {12, "hex27", 3, 27},
+    {13, "prism18", 3, 18},   {14, "pyramid14", 3, 14}, {15, "point", 0, 1},
+    {16, "quad8", 2, 8},      {17, "hex20", 3, 20},     {18, "prism15", 3, 15},
+    {19, "pyramid13", 3, 13}, {20, "tri9", 2, 9},       {21, "tri10", 2, 10},
+    {22, "tri12", 2, 12},     {23, "tri15", 2, 15},     {24, "tri15i", 2, 15},
+    {25, "tri21", 2, 21},     {26, "line4", 1, 4},      {27, "line5", 1, 5},
+    {28, "line6", 1, 6},      {29, "tet20", 3, 20},     {30, "tet35", 3, 35},
+    {31, "tet56", 3, 56},     {92, "hex64", 3, 64},     {93, "hex125", 3, 125},
 };
 
 const GmshType* find_type(long long type)
@@ -64,7 +66,8 @@ const char* kReexport =
 // one record per line in both ASCII formats, and a line-based parser can say
 // "expected 4 node tags, got 3" where a token stream would silently run into
 // the next record.
-class LineParser {
+class LineParser
+{
 public:
   explicit LineParser(const std::string& path) : path_(path), in_(path)
   {
@@ -97,8 +100,8 @@ public:
   void need(const char* section, long long n, long long i, const char* what)
   {
     if (!next())
-      fail("unexpected end of file in $" + std::string(section) + ": expected " + std::to_string(n) +
-           " " + what + ", got " + std::to_string(i) + " (truncated file?)");
+      fail("unexpected end of file in $" + std::string(section) + ": expected " +
+           std::to_string(n) + " " + what + ", got " + std::to_string(i) + " (truncated file?)");
   }
 
   // The line after a section's records must close it.
@@ -194,10 +197,12 @@ private:
     std::size_t i = 0;
     const std::size_t n = line_.size();
     while (i < n) {
-      while (i < n && (line_[i] == ' ' || line_[i] == '\t')) ++i;
+      while (i < n && (line_[i] == ' ' || line_[i] == '\t'))
+        ++i;
       if (i >= n) break;
       std::size_t j = i;
-      while (j < n && line_[j] != ' ' && line_[j] != '\t') ++j;
+      while (j < n && line_[j] != ' ' && line_[j] != '\t')
+        ++j;
       tok_.emplace_back(line_.data() + i, j - i);
       i = j;
     }
@@ -227,7 +232,7 @@ struct RawMesh {
   std::vector<std::size_t> ephys_off{0};
   std::vector<int> ephys; // physical tags (non-zero)
 
-  std::map<std::pair<int, int>, std::string> phys_names; // (dim, tag) -> name
+  std::map<std::pair<int, int>, std::string> phys_names;       // (dim, tag) -> name
   std::map<std::pair<int, int>, std::vector<int>> entity_phys; // 4.1: (dim, tag) -> physicals
 
   bool have_nodes = false;
@@ -256,8 +261,7 @@ void add_element(LineParser& p, RawMesh& raw, const GmshType& t, std::size_t fir
   for (int k = 0; k < t.nodes; ++k) {
     const long long tag = p.to_int(first + k, "node tag");
     if (!raw.node_pos.count(tag))
-      p.fail("element references unknown node tag " + std::to_string(tag) +
-             " (not in $Nodes)");
+      p.fail("element references unknown node tag " + std::to_string(tag) + " (not in $Nodes)");
     raw.enode.push_back(tag);
   }
   raw.etype.push_back(&t);
@@ -280,8 +284,8 @@ const GmshType& lookup_type(LineParser& p, long long type)
 void check_node_count(LineParser& p, const GmshType& t, long long got)
 {
   if (got != t.nodes)
-    p.fail("expected " + std::to_string(t.nodes) + " node tags for element type " +
-           type_label(t) + ", got " + std::to_string(got));
+    p.fail("expected " + std::to_string(t.nodes) + " node tags for element type " + type_label(t) +
+           ", got " + std::to_string(got));
 }
 
 void read_physical_names(LineParser& p, RawMesh& raw)
@@ -291,7 +295,8 @@ void read_physical_names(LineParser& p, RawMesh& raw)
   const long long n = p.to_count(0, "number of physical names");
   for (long long i = 0; i < n; ++i) {
     p.need("PhysicalNames", n, i, "names");
-    if (p.size() < 3) p.fail("expected 'dim tag \"name\"', got " + std::to_string(p.size()) + " fields");
+    if (p.size() < 3)
+      p.fail("expected 'dim tag \"name\"', got " + std::to_string(p.size()) + " fields");
     const int d = static_cast<int>(p.to_int(0, "physical dimension"));
     const int tag = static_cast<int>(p.to_int(1, "physical tag"));
     // The name is the rest of the line; it may contain blanks inside quotes.
@@ -345,7 +350,8 @@ void read_elements22(LineParser& p, RawMesh& raw)
     phys.clear();
     // First tag = physical group, second = elementary entity, then partitions.
     if (ntags >= 1) phys.push_back(std::abs(static_cast<int>(p.to_int(3, "physical tag"))));
-    for (long long k = 1; k < ntags; ++k) p.to_int(3 + k, "element tag");
+    for (long long k = 1; k < ntags; ++k)
+      p.to_int(3 + k, "element tag");
     add_element(p, raw, t, 3 + ntags, phys);
   }
   p.expect_end("Elements");
@@ -356,17 +362,23 @@ void read_entities41(LineParser& p, RawMesh& raw)
   p.need("Entities", "the entity counts");
   p.want_fields(4, "numPoints numCurves numSurfaces numVolumes");
   long long count[4];
-  for (int d = 0; d < 4; ++d) count[d] = p.to_count(d, "number of entities");
+  for (int d = 0; d < 4; ++d)
+    count[d] = p.to_count(d, "number of entities");
   for (int d = 0; d < 4; ++d) {
     for (long long i = 0; i < count[d]; ++i) {
-      p.need("Entities", count[d], i, d == 0 ? "point entities" : d == 1 ? "curve entities" : d == 2 ? "surface entities" : "volume entities");
+      p.need("Entities", count[d], i,
+             d == 0   ? "point entities"
+             : d == 1 ? "curve entities"
+             : d == 2 ? "surface entities"
+                      : "volume entities");
       // points: tag x y z nphys phys...; others: tag box(6) nphys phys... nbound bound...
       const std::size_t nphys_at = d == 0 ? 4 : 7;
       if (p.size() < nphys_at + 1)
         p.fail("entity of dimension " + std::to_string(d) + ": expected at least " +
                std::to_string(nphys_at + 1) + " fields, got " + std::to_string(p.size()));
       const int tag = static_cast<int>(p.to_int(0, "entity tag"));
-      for (std::size_t k = 1; k < nphys_at; ++k) p.to_double(k, "entity coordinate");
+      for (std::size_t k = 1; k < nphys_at; ++k)
+        p.to_double(k, "entity coordinate");
       const long long nphys = p.to_count(nphys_at, "number of physical tags");
       std::size_t expect = nphys_at + 1 + nphys;
       if (p.size() < expect)
@@ -383,7 +395,8 @@ void read_entities41(LineParser& p, RawMesh& raw)
         if (p.size() != expect)
           p.fail("expected " + std::to_string(nb) + " bounding entity tags, got " +
                  std::to_string(p.size() - (expect - nb)));
-        for (std::size_t k = expect - nb; k < expect; ++k) p.to_int(k, "bounding entity tag");
+        for (std::size_t k = expect - nb; k < expect; ++k)
+          p.to_int(k, "bounding entity tag");
       } else if (p.size() != expect) {
         p.fail("expected " + std::to_string(expect) + " fields for a point entity, got " +
                std::to_string(p.size()));
@@ -412,7 +425,8 @@ void read_nodes41(LineParser& p, RawMesh& raw)
     const long long param = p.to_int(2, "parametric flag");
     const long long m = p.to_count(3, "number of nodes in block");
     if (edim < 0 || edim > 3) p.fail("entity dimension must be 0..3, got " + std::to_string(edim));
-    if (param != 0 && param != 1) p.fail("parametric flag must be 0 or 1, got " + std::to_string(param));
+    if (param != 0 && param != 1)
+      p.fail("parametric flag must be 0 or 1, got " + std::to_string(param));
     tags.clear();
     for (long long i = 0; i < m; ++i) {
       p.need("Nodes", m, i, "node tags in this block");
@@ -424,7 +438,8 @@ void read_nodes41(LineParser& p, RawMesh& raw)
     for (long long i = 0; i < m; ++i) {
       p.need("Nodes", m, i, "node coordinate lines in this block");
       p.want_fields(nf, param ? "x y z + parametric coordinates" : "node: x y z");
-      for (std::size_t k = 3; k < nf; ++k) p.to_double(k, "parametric coordinate");
+      for (std::size_t k = 3; k < nf; ++k)
+        p.to_double(k, "parametric coordinate");
       add_node(p, raw, tags[i], p.to_double(0, "x"), p.to_double(1, "y"), p.to_double(2, "z"));
     }
     total += m;
@@ -544,7 +559,8 @@ struct ElemKeyHash {
   std::size_t operator()(const ElemKey& k) const
   {
     std::size_t h = static_cast<std::size_t>(k.type);
-    for (long long v : k.n) h = h * 1000003u ^ std::hash<long long>()(v);
+    for (long long v : k.n)
+      h = h * 1000003u ^ std::hash<long long>()(v);
     return h;
   }
 };
@@ -586,7 +602,8 @@ Mesh read_gmsh(const std::string& path, int dim)
 
   // ---- choose the body's dimension ------------------------------------
   std::array<long, 4> count{};
-  for (const GmshType* t : raw.etype) ++count[t->dim];
+  for (const GmshType* t : raw.etype)
+    ++count[t->dim];
   int maxdim = -1;
   for (int d = 0; d < 4; ++d)
     if (count[d]) maxdim = d;
@@ -599,9 +616,10 @@ Mesh read_gmsh(const std::string& path, int dim)
     throw MeshReadError(path + ": no body elements: looked for dimension " + wanted + ", found " +
                         dims_found(count));
   if (maxdim > body)
-    throw MeshReadError(path + ": dim = " + std::to_string(body) + " was requested but the file has " +
-                        std::to_string(count[maxdim]) + " elements of dimension " +
-                        std::to_string(maxdim) + "; use a " + std::to_string(body) + "D mesh");
+    throw MeshReadError(path + ": dim = " + std::to_string(body) +
+                        " was requested but the file has " + std::to_string(count[maxdim]) +
+                        " elements of dimension " + std::to_string(maxdim) + "; use a " +
+                        std::to_string(body) + "D mesh");
 
   // ---- body elements: type check and merge of Gmsh 2.2 repeats ------------
   Mesh mesh;
@@ -614,19 +632,24 @@ Mesh read_gmsh(const std::string& path, int dim)
     const GmshType& t = *raw.etype[r];
     if (t.dim != body) continue;
     ElemType et;
-    if (t.type == 4) et = ElemType::Tet4;
-    else if (t.type == 2) et = ElemType::Tri3;
-    else if (t.type == 3) et = ElemType::Quad4;
+    if (t.type == 4)
+      et = ElemType::Tet4;
+    else if (t.type == 2)
+      et = ElemType::Tri3;
+    else if (t.type == 3)
+      et = ElemType::Quad4;
     else
       throw fail_at(raw.eline[r], "element type " + type_label(t) + " is not supported for a " +
                                       std::to_string(body) + "D body; supported: " +
                                       (body == 3 ? "4 (tet4)" : "2 (tri3), 3 (quad4)") +
                                       " (re-mesh with first-order elements)");
     ElemKey key{{-1, -1, -1, -1}, t.type};
-    for (int k = 0; k < t.nodes; ++k) key.n[k] = raw.enode[raw.enode_off[r] + k];
+    for (int k = 0; k < t.nodes; ++k)
+      key.n[k] = raw.enode[raw.enode_off[r] + k];
     // Insertion sort of <= 4 tags (std::sort here trips a false -Warray-bounds in GCC 12).
     for (int a = 1; a < t.nodes; ++a)
-      for (int b = a; b > 0 && key.n[b - 1] > key.n[b]; --b) std::swap(key.n[b - 1], key.n[b]);
+      for (int b = a; b > 0 && key.n[b - 1] > key.n[b]; --b)
+        std::swap(key.n[b - 1], key.n[b]);
     auto ins = seen.emplace(key, mesh.num_elems());
     if (!ins.second) { // the same element again, listed for another physical group
       elem_of[r] = ins.first->second;
@@ -634,12 +657,15 @@ Mesh read_gmsh(const std::string& path, int dim)
     }
     elem_of[r] = mesh.num_elems();
     std::array<int, 4> c{{-1, -1, -1, -1}};
-    for (int k = 0; k < t.nodes; ++k) conn_tags.push_back(raw.enode[raw.enode_off[r] + k]);
-    for (int k = t.nodes; k < 4; ++k) conn_tags.push_back(-1);
+    for (int k = 0; k < t.nodes; ++k)
+      conn_tags.push_back(raw.enode[raw.enode_off[r] + k]);
+    for (int k = t.nodes; k < 4; ++k)
+      conn_tags.push_back(-1);
     mesh.etype.push_back(et);
     mesh.conn.push_back(c);
     mesh.active.push_back(1);
-    mesh.region.push_back(raw.ephys_off[r + 1] > raw.ephys_off[r] ? raw.ephys[raw.ephys_off[r]] : 0);
+    mesh.region.push_back(raw.ephys_off[r + 1] > raw.ephys_off[r] ? raw.ephys[raw.ephys_off[r]]
+                                                                  : 0);
   }
 
   // ---- nodes: those of body elements, by increasing tag ---------------------
@@ -656,11 +682,13 @@ Mesh read_gmsh(const std::string& path, int dim)
   mesh.X.resize(3 * tags.size());
   for (std::size_t i = 0; i < tags.size(); ++i) {
     const int pos = raw.node_pos.at(tags[i]);
-    for (int k = 0; k < 3; ++k) mesh.X[3 * i + k] = raw.node_xyz[3 * pos + k];
+    for (int k = 0; k < 3; ++k)
+      mesh.X[3 * i + k] = raw.node_xyz[3 * pos + k];
   }
   for (int e = 0; e < mesh.num_elems(); ++e) {
     const int nn = nodes_per_elem(mesh.etype[e]);
-    for (int k = 0; k < nn; ++k) mesh.conn[e][k] = index_of(conn_tags[4 * e + k]);
+    for (int k = 0; k < nn; ++k)
+      mesh.conn[e][k] = index_of(conn_tags[4 * e + k]);
   }
 
   // ---- physical groups -> node and element sets -------------------------
@@ -682,7 +710,8 @@ Mesh read_gmsh(const std::string& path, int dim)
         const std::string name = group_name(d, raw.ephys[q]);
         g = group_sets
                 .emplace(std::make_pair(d, raw.ephys[q]),
-                         std::make_pair(&mesh.node_sets[name], d == body ? &mesh.elem_sets[name] : nullptr))
+                         std::make_pair(&mesh.node_sets[name],
+                                        d == body ? &mesh.elem_sets[name] : nullptr))
                 .first;
       }
       auto& ns = *g->second.first;
@@ -709,8 +738,9 @@ Mesh read_gmsh(const std::string& path, int dim)
         lo[k] = i ? std::min(lo[k], v) : v;
         hi[k] = i ? std::max(hi[k], v) : v;
       }
-    const double size = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const double size =
+        std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
     const double tol = 1e-12 * size;
     for (int i = 0; i < mesh.num_nodes(); ++i) {
       const double z = mesh.X[3 * i + 2];
@@ -726,8 +756,10 @@ Mesh read_gmsh(const std::string& path, int dim)
     for (int e = 0; e < mesh.num_elems(); ++e) {
       if (signed_area2(mesh, e) >= 0) continue;
       auto& c = mesh.conn[e];
-      if (mesh.etype[e] == ElemType::Tri3) std::swap(c[1], c[2]);
-      else std::swap(c[1], c[3]); // a b c d -> a d c b
+      if (mesh.etype[e] == ElemType::Tri3)
+        std::swap(c[1], c[2]);
+      else
+        std::swap(c[1], c[3]); // a b c d -> a d c b
     }
   }
   return mesh;
@@ -740,15 +772,21 @@ void write_gmsh22(const Mesh& mesh, const std::string& path)
   const int ne = mesh.num_elems(), nn = mesh.num_nodes();
   auto gmsh_type = [](ElemType t) {
     switch (t) {
-      case ElemType::Tri3: return 2;
-      case ElemType::Quad4: return 3;
-      case ElemType::Tet4: return 4;
+    case ElemType::Tri3:
+      return 2;
+    case ElemType::Quad4:
+      return 3;
+    case ElemType::Tet4:
+      return 4;
     }
     return 0;
   };
   int max_region = 0;
-  for (int r : mesh.region) max_region = std::max(max_region, r);
-  auto region_of = [&](int e) { return e < static_cast<int>(mesh.region.size()) ? mesh.region[e] : 0; };
+  for (int r : mesh.region)
+    max_region = std::max(max_region, r);
+  auto region_of = [&](int e) {
+    return e < static_cast<int>(mesh.region.size()) ? mesh.region[e] : 0;
+  };
 
   // Element sets: a set that is exactly one region is named by that region's
   // tag; any other set is written as repeated elements with a fresh tag.
@@ -760,12 +798,14 @@ void write_gmsh22(const Mesh& mesh, const std::string& path)
   std::vector<Extra> extra;
   int next_tag = max_region + 1;
   std::map<int, int> region_count;
-  for (int e = 0; e < ne; ++e) ++region_count[region_of(e)];
+  for (int e = 0; e < ne; ++e)
+    ++region_count[region_of(e)];
   std::set<int> named_regions;
   for (const auto& kv : mesh.elem_sets) {
     const auto& v = kv.second;
     int r = v.empty() ? 0 : region_of(v.front());
-    bool one_region = r != 0 && !named_regions.count(r) && region_count[r] == static_cast<int>(v.size());
+    bool one_region =
+        r != 0 && !named_regions.count(r) && region_count[r] == static_cast<int>(v.size());
     for (int e : v) {
       if (e < 0 || e >= ne)
         throw std::invalid_argument("write_gmsh22: elem_set '" + kv.first + "' holds element " +
@@ -793,30 +833,42 @@ void write_gmsh22(const Mesh& mesh, const std::string& path)
   }
 
   FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw std::runtime_error(path + ": cannot open file for writing (" + std::strerror(errno) + ")");
+  if (!f)
+    throw std::runtime_error(path + ": cannot open file for writing (" + std::strerror(errno) +
+                             ")");
   std::fprintf(f, "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
   std::fprintf(f, "$PhysicalNames\n%zu\n", body_names.size() + point_groups.size());
-  for (const auto& bn : body_names) std::fprintf(f, "%d %d \"%s\"\n", mesh.dim, bn.first, bn.second.c_str());
-  for (const auto& pg : point_groups) std::fprintf(f, "0 %d \"%s\"\n", pg.first, pg.second->first.c_str());
+  for (const auto& bn : body_names)
+    std::fprintf(f, "%d %d \"%s\"\n", mesh.dim, bn.first, bn.second.c_str());
+  for (const auto& pg : point_groups)
+    std::fprintf(f, "0 %d \"%s\"\n", pg.first, pg.second->first.c_str());
   std::fprintf(f, "$EndPhysicalNames\n$Nodes\n%d\n", nn);
   for (int i = 0; i < nn; ++i)
-    std::fprintf(f, "%d %.17g %.17g %.17g\n", i + 1, mesh.X[3 * i], mesh.X[3 * i + 1], mesh.X[3 * i + 2]);
+    std::fprintf(f, "%d %.17g %.17g %.17g\n", i + 1, mesh.X[3 * i], mesh.X[3 * i + 1],
+                 mesh.X[3 * i + 2]);
   std::size_t total = ne;
-  for (const auto& x : extra) total += x.elems->size();
-  for (const auto& pg : point_groups) total += pg.second->second.size();
+  for (const auto& x : extra)
+    total += x.elems->size();
+  for (const auto& pg : point_groups)
+    total += pg.second->second.size();
   std::fprintf(f, "$EndNodes\n$Elements\n%zu\n", total);
   long tag = 0;
   auto write_elem = [&](int e, int phys) {
     const auto& c = mesh.conn[e];
-    std::fprintf(f, "%ld %d 2 %d %d", ++tag, gmsh_type(mesh.etype[e]), phys, std::max(region_of(e), 1));
-    for (int k = 0; k < nodes_per_elem(mesh.etype[e]); ++k) std::fprintf(f, " %d", c[k] + 1);
+    std::fprintf(f, "%ld %d 2 %d %d", ++tag, gmsh_type(mesh.etype[e]), phys,
+                 std::max(region_of(e), 1));
+    for (int k = 0; k < nodes_per_elem(mesh.etype[e]); ++k)
+      std::fprintf(f, " %d", c[k] + 1);
     std::fputc('\n', f);
   };
-  for (int e = 0; e < ne; ++e) write_elem(e, region_of(e));
+  for (int e = 0; e < ne; ++e)
+    write_elem(e, region_of(e));
   for (const auto& x : extra)
-    for (int e : *x.elems) write_elem(e, x.tag);
+    for (int e : *x.elems)
+      write_elem(e, x.tag);
   for (const auto& pg : point_groups)
-    for (int i : pg.second->second) std::fprintf(f, "%ld 15 2 %d %d %d\n", ++tag, pg.first, pg.first, i + 1);
+    for (int i : pg.second->second)
+      std::fprintf(f, "%ld 15 2 %d %d %d\n", ++tag, pg.first, pg.first, i + 1);
   std::fprintf(f, "$EndElements\n");
   const bool ok = !std::ferror(f);
   if (std::fclose(f) != 0 || !ok) throw std::runtime_error(path + ": error while writing the file");

@@ -6,7 +6,8 @@
 
 #include "fem/mesh.h"
 
-namespace fracdem {
+namespace fracdem
+{
 
 // Any problem with a mesh file. The message always starts with the file path
 // and, when a line is to blame, ":LINE:" (e.g. "body.msh:57: expected 4 node

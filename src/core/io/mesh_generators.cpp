@@ -5,17 +5,21 @@
 #include <string>
 #include <utility>
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
+namespace
+{
 
 void check_count(int n, const char* what)
 {
-  if (n < 1) throw std::invalid_argument(std::string(what) + " must be >= 1, got " + std::to_string(n));
+  if (n < 1)
+    throw std::invalid_argument(std::string(what) + " must be >= 1, got " + std::to_string(n));
 }
 void check_length(double l, const char* what)
 {
-  if (!(l > 0.0)) throw std::invalid_argument(std::string(what) + " must be > 0, got " + std::to_string(l));
+  if (!(l > 0.0))
+    throw std::invalid_argument(std::string(what) + " must be > 0, got " + std::to_string(l));
 }
 
 double tet_volume6(const std::vector<double>& X, const std::array<int, 4>& c)
@@ -63,7 +67,9 @@ Mesh make_box_tet_mesh(int nx, int ny, int nz, double lx, double ly, double lz,
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        auto v = [&](int bits) { return id(i + (bits & 1), j + ((bits >> 1) & 1), k + ((bits >> 2) & 1)); };
+        auto v = [&](int bits) {
+          return id(i + (bits & 1), j + ((bits >> 1) & 1), k + ((bits >> 2) & 1));
+        };
         for (const auto& p : perms) {
           const int b1 = 1 << p[0], b2 = b1 | (1 << p[1]);
           std::array<int, 4> c{{v(0), v(b1), v(b2), v(7)}};

@@ -5,7 +5,8 @@
 
 #include "fem/mesh.h"
 
-namespace fracdem {
+namespace fracdem
+{
 
 // nx*ny*nz hexahedral cells of size lx/nx x ly/ny x lz/nz starting at origin,
 // each split into 6 positive-volume tets around its main diagonal (Kuhn

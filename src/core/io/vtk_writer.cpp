@@ -24,16 +24,21 @@
 
 namespace fs = std::filesystem;
 
-namespace fracdem {
+namespace fracdem
+{
 
-namespace {
+namespace
+{
 
 int vtk_cell_type(ElemType t)
 {
   switch (t) {
-    case ElemType::Tri3: return VTK_TRIANGLE;
-    case ElemType::Quad4: return VTK_QUAD;
-    case ElemType::Tet4: return VTK_TETRA;
+  case ElemType::Tri3:
+    return VTK_TRIANGLE;
+  case ElemType::Quad4:
+    return VTK_QUAD;
+  case ElemType::Tet4:
+    return VTK_TETRA;
   }
   return VTK_EMPTY_CELL;
 }
@@ -72,7 +77,8 @@ void write_vtu(const std::string& path, const Mesh& mesh, const double* x,
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(nn);
-  for (int i = 0; i < nn; ++i) points->SetPoint(i, x + 3 * i);
+  for (int i = 0; i < nn; ++i)
+    points->SetPoint(i, x + 3 * i);
 
   std::vector<int> kept;
   kept.reserve(ne);
@@ -88,8 +94,9 @@ void write_vtu(const std::string& path, const Mesh& mesh, const double* x,
     for (int k = 0; k < npe; ++k) {
       const int n = mesh.conn[e][k];
       if (n < 0 || n >= nn)
-        throw std::invalid_argument("write_vtu: element " + std::to_string(e) + " references node " +
-                                    std::to_string(n) + " of " + std::to_string(nn));
+        throw std::invalid_argument("write_vtu: element " + std::to_string(e) +
+                                    " references node " + std::to_string(n) + " of " +
+                                    std::to_string(nn));
       ids[k] = n;
     }
     grid->InsertNextCell(vtk_cell_type(mesh.etype[e]), npe, ids);
@@ -116,11 +123,13 @@ void write_vtu(const std::string& path, const Mesh& mesh, const double* x,
     if (f.per_cell) {
       a->SetNumberOfTuples(static_cast<vtkIdType>(kept.size()));
       for (std::size_t c = 0; c < kept.size(); ++c)
-        a->SetTypedTuple(static_cast<vtkIdType>(c), f.data + static_cast<std::size_t>(nc) * kept[c]);
+        a->SetTypedTuple(static_cast<vtkIdType>(c),
+                         f.data + static_cast<std::size_t>(nc) * kept[c]);
       grid->GetCellData()->AddArray(a);
     } else {
       a->SetNumberOfTuples(nn);
-      for (int i = 0; i < nn; ++i) a->SetTypedTuple(i, f.data + static_cast<std::size_t>(nc) * i);
+      for (int i = 0; i < nn; ++i)
+        a->SetTypedTuple(i, f.data + static_cast<std::size_t>(nc) * i);
       grid->GetPointData()->AddArray(a);
     }
   }
@@ -150,8 +159,10 @@ void write_vtu(const std::string& path, const Mesh& mesh, const double* x,
     std::error_code ec;
     fs::remove(tmp, ec);
     std::string why = vtk_error;
-    while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
-    throw std::runtime_error(path + ": cannot write VTU file" + (why.empty() ? "" : " (" + why + ")"));
+    while (!why.empty() && (why.back() == '\n' || why.back() == ' '))
+      why.pop_back();
+    throw std::runtime_error(path + ": cannot write VTU file" +
+                             (why.empty() ? "" : " (" + why + ")"));
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
@@ -163,7 +174,8 @@ void write_vtu(const std::string& path, const Mesh& mesh, const double* x,
 
 // ---------------------------------------------------------------------------
 
-namespace {
+namespace
+{
 
 std::string xml_escape(const std::string& s)
 {
@@ -171,11 +183,20 @@ std::string xml_escape(const std::string& s)
   out.reserve(s.size());
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    default:
+      out += c;
     }
   }
   return out;
@@ -223,8 +244,8 @@ void PvdSeries::write() const
   fs::rename(tmp, pvd_path_, ec);
   if (ec) {
     std::remove(tmp.c_str());
-    throw std::runtime_error(pvd_path_ + ": cannot write ParaView series file (rename failed: " +
-                             ec.message() + ")");
+    throw std::runtime_error(
+        pvd_path_ + ": cannot write ParaView series file (rename failed: " + ec.message() + ")");
   }
 }
 

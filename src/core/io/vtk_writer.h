@@ -7,7 +7,8 @@
 
 #include "fem/mesh.h"
 
-namespace fracdem {
+namespace fracdem
+{
 
 // A field to write: per node (point data, count = num_nodes) or per element
 // (cell data, count = num_elems, indexed by the ORIGINAL element index).
@@ -37,7 +38,8 @@ void write_vtu(const std::string& path, const Mesh& mesh, const double* x,
 // entry is added, so the series stays valid if the run is killed. Nothing is
 // written before the first add(). File names are stored relative to the
 // .pvd's directory (absolute when no relative path exists).
-class PvdSeries {
+class PvdSeries
+{
 public:
   explicit PvdSeries(std::string pvd_path);
   // vtu_path is as the caller opened it (absolute or relative to the working
