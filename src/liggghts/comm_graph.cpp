@@ -238,13 +238,28 @@ void CommGraph::borders()
     return (cz * ncell[1] + cy) * ncell[0] + cx;
   };
 
-  std::vector<std::int64_t> my_cells;
-  my_cells.reserve(nlocal);
+  // My occupied cells with the bounding box of my atoms in each: the cover is tested against
+  // those boxes, which is exact where a cell holds one atom (cells are half a cutoff wide).
+  std::vector<std::pair<std::int64_t, int>> atom_cell(nlocal);
   for (int i = 0; i < nlocal; ++i) {
     std::int64_t c[3] = {0, 0, 0};
     for (int d = 0; d < dim; ++d)
       c[d] = cell_coord(x[i][d], d);
-    my_cells.push_back(cell_id(c[0], c[1], c[2]));
+    atom_cell[i] = {cell_id(c[0], c[1], c[2]), i};
+  }
+  std::sort(atom_cell.begin(), atom_cell.end());
+  std::vector<std::int64_t> my_cells;
+  std::vector<double> my_boxes;
+  for (const auto& ac : atom_cell) {
+    const double* xi = x[ac.second];
+    if (my_cells.empty() || my_cells.back() != ac.first) {
+      my_cells.push_back(ac.first);
+      my_boxes.insert(my_boxes.end(), {xi[0], xi[1], xi[2], xi[0], xi[1], xi[2]});
+      continue;
+    }
+    double* b = &my_boxes[my_boxes.size() - 6];
+    for (int d = 0; d < 3; ++d)
+      b[d] = std::min(b[d], xi[d]), b[3 + d] = std::max(b[3 + d], xi[d]);
   }
   // Bricks of all ranks, when insertion fixes need every particle near the brick they insert
   // into: tested per atom as boxes (cheap), not as cells (a brick can hold very many cells).
@@ -267,10 +282,7 @@ void CommGraph::borders()
     MPI_Allgather(mine_boxes.data(), 6 * nbox, MPI_DOUBLE, bricks.data(), 6 * nbox, MPI_DOUBLE,
                   world);
   }
-  std::sort(my_cells.begin(), my_cells.end());
-  my_cells.erase(std::unique(my_cells.begin(), my_cells.end()), my_cells.end());
-
-  // Everyone's occupied cells, as sorted (cell, rank) pairs.
+  // Everyone's occupied cells, as (cell, rank, atom box) sorted by cell and rank.
   int my_count = static_cast<int>(my_cells.size());
   std::vector<int> counts(nprocs), displs(nprocs);
   MPI_Allgather(&my_count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
@@ -280,12 +292,27 @@ void CommGraph::borders()
   std::vector<std::int64_t> all_cells(std::max(total, 1));
   MPI_Allgatherv(my_cells.data(), my_count, MPI_INT64_T, all_cells.data(), counts.data(),
                  displs.data(), MPI_INT64_T, world);
+  std::vector<double> all_boxes(6 * std::max(total, 1));
+  {
+    std::vector<int> counts6(nprocs), displs6(nprocs);
+    for (int p = 0; p < nprocs; ++p)
+      counts6[p] = 6 * counts[p], displs6[p] = 6 * displs[p];
+    MPI_Allgatherv(my_boxes.data(), 6 * my_count, MPI_DOUBLE, all_boxes.data(), counts6.data(),
+                   displs6.data(), MPI_DOUBLE, world);
+  }
   cell_owner_.clear();
   cell_owner_.reserve(total);
   for (int p = 0; p < nprocs; ++p)
-    for (int k = displs[p]; k < displs[p] + counts[p]; ++k)
-      cell_owner_.push_back({all_cells[k], p});
-  std::sort(cell_owner_.begin(), cell_owner_.end());
+    for (int k = displs[p]; k < displs[p] + counts[p]; ++k) {
+      CellOwner co;
+      co.first = all_cells[k];
+      co.second = p;
+      std::copy(&all_boxes[6 * k], &all_boxes[6 * k] + 6, co.box);
+      cell_owner_.push_back(co);
+    }
+  std::sort(cell_owner_.begin(), cell_owner_.end(), [](const CellOwner& a, const CellOwner& b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  });
   // Constant-time lookup of a cell's owners where a dense index fits (the common case).
   const std::int64_t ncells_total = ncell[0] * ncell[1] * ncell[2];
   const bool dense = ncells_total <= kMaxDenseCells;
@@ -309,8 +336,9 @@ void CommGraph::borders()
     if (dense)
       return std::make_pair(cell_owner_.begin() + cell_start_[id],
                             cell_owner_.begin() + cell_start_[id + 1]);
-    return std::equal_range(cell_owner_.begin(), cell_owner_.end(),
-                            std::pair<std::int64_t, int>{id, -1},
+    CellOwner key;
+    key.first = id;
+    return std::equal_range(cell_owner_.begin(), cell_owner_.end(), key,
                             [](const auto& a, const auto& b) { return a.first < b.first; });
   };
   const double cut2 = cutghost[0] * cutghost[0];
@@ -406,9 +434,19 @@ void CommGraph::borders()
         dist2 += gap * gap;
       }
       if (dist2 > cut2) continue;
+      double y[3]; // the image of atom i that the candidate's owners would see
+      for (int d = 0; d < 3; ++d)
+        y[d] = x[i][d] + shifts_[cd.shift][d] * prd[d];
       for (std::int64_t o = cd.first; o < cd.last; ++o) {
         const int q = cell_owner_[o].second;
         if (q == me && cd.shift == 0) continue; // an owned atom is no ghost of itself
+        const double* b = cell_owner_[o].box;
+        double gap2 = 0;
+        for (int d = 0; d < dim; ++d) {
+          const double gap = std::max({b[d] - y[d], 0.0, y[d] - b[3 + d]});
+          gap2 += gap * gap;
+        }
+        if (gap2 > cut2) continue; // no atom of q in that cell is within reach
         const int iswap = ((q - me + nprocs) % nprocs) * nshift + cd.shift;
         if (std::find(targets.begin(), targets.end(), iswap) == targets.end())
           targets.push_back(iswap);

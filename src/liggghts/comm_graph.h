@@ -75,9 +75,15 @@ private:
   std::vector<int> pending_dest_;
   fracdem::balance::CellGrid cell_grid_;
   std::vector<int> cell_owners_;
-  std::vector<std::array<int, 3>> shifts_;               // periodic image shifts, zero shift first
-  std::vector<std::pair<std::int64_t, int>> cell_owner_; // (cover cell, rank), sorted
-  std::vector<std::int64_t> cell_start_;                 // dense CSR index into cell_owner_
+  std::vector<std::array<int, 3>> shifts_; // periodic image shifts, zero shift first
+  // A cover cell of a rank with the bounding box of that rank's atoms in it.
+  struct CellOwner {
+    std::int64_t first = 0; // cell
+    int second = -1;        // rank
+    double box[6] = {0, 0, 0, 0, 0, 0};
+  };
+  std::vector<CellOwner> cell_owner_;    // sorted by cell, then rank
+  std::vector<std::int64_t> cell_start_; // dense CSR index into cell_owner_
   // A cell near one of mine whose owners need images from my cell: its unwrapped bounds, the
   // image shift and its range in cell_owner_.
   struct Candidate {
