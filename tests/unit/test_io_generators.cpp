@@ -7,39 +7,14 @@
 #include <stdexcept>
 
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 using namespace fracdem;
+using fracdem_test::signed_area;
+using fracdem_test::tet_volume;
 
 namespace
 {
-
-double tet_volume(const Mesh& m, int e)
-{
-  const auto& c = m.conn[e];
-  const double* a = &m.X[3 * c[0]];
-  double u[3], v[3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    u[k] = m.X[3 * c[1] + k] - a[k];
-    v[k] = m.X[3 * c[2] + k] - a[k];
-    w[k] = m.X[3 * c[3] + k] - a[k];
-  }
-  return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-          u[2] * (v[0] * w[1] - v[1] * w[0])) /
-         6.0;
-}
-
-double signed_area(const Mesh& m, int e)
-{
-  const auto& c = m.conn[e];
-  const int nn = nodes_per_elem(m.etype[e]);
-  double a = 0;
-  for (int k = 0; k < nn; ++k) {
-    const double* p = &m.X[3 * c[k]];
-    const double* q = &m.X[3 * c[(k + 1) % nn]];
-    a += p[0] * q[1] - q[0] * p[1];
-  }
-  return 0.5 * a;
-}
 
 void expect_set_on_plane(const Mesh& m, const std::string& name, int axis, double value,
                          std::size_t count)

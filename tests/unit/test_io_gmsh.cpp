@@ -2,8 +2,6 @@
 // errors.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -12,24 +10,15 @@
 
 #include "io/gmsh_reader.h"
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace fracdem;
+using fracdem_test::signed_area;
+using fracdem_test::tet_volume;
 
 namespace
 {
-
-// A fresh directory per test (pid + test name, so parallel ctest runs do not
-// collide); removed afterwards unless the test failed.
-fs::path make_test_dir()
-{
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path d = fs::temp_directory_path() / ("fracdem_io_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 // 1-based number of the first line containing `needle` (nth occurrence).
 int line_of(const std::string& text, const std::string& needle, int nth = 1)
@@ -240,52 +229,10 @@ void expect_same_mesh(const Mesh& a, const Mesh& b)
   EXPECT_EQ(a.elem_sets, b.elem_sets);
 }
 
-double tet_volume(const Mesh& m, int e)
-{
-  const auto& c = m.conn[e];
-  const double* a = &m.X[3 * c[0]];
-  double u[3], v[3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    u[k] = m.X[3 * c[1] + k] - a[k];
-    v[k] = m.X[3 * c[2] + k] - a[k];
-    w[k] = m.X[3 * c[3] + k] - a[k];
-  }
-  return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-          u[2] * (v[0] * w[1] - v[1] * w[0])) /
-         6.0;
-}
-
-double signed_area(const Mesh& m, int e)
-{
-  const auto& c = m.conn[e];
-  const int nn = nodes_per_elem(m.etype[e]);
-  double a = 0;
-  for (int k = 0; k < nn; ++k) {
-    const double* p = &m.X[3 * c[k]];
-    const double* q = &m.X[3 * c[(k + 1) % nn]];
-    a += p[0] * q[1] - q[0] * p[1];
-  }
-  return 0.5 * a;
-}
-
 } // namespace
 
-class IoGmsh : public ::testing::Test
+class IoGmsh : public fracdem_test::TempDirTest
 {
-protected:
-  void SetUp() override { dir_ = make_test_dir(); }
-  void TearDown() override
-  {
-    std::error_code ec;
-    if (!HasFailure()) fs::remove_all(dir_, ec);
-  }
-  std::string write_file(const std::string& name, const std::string& text) const
-  {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-  fs::path dir_;
 };
 
 TEST_F(IoGmsh, TwoTets22)

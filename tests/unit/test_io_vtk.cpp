@@ -1,8 +1,6 @@
 // Unit tests for the VTU writer (read back through VTK) and the PVD time-series index.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -18,24 +16,13 @@
 
 #include "io/mesh_generators.h"
 #include "io/vtk_writer.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace fracdem;
 
 namespace
 {
-
-// A fresh directory per test (pid + test name, so parallel ctest runs do not
-// collide); removed afterwards unless the test failed.
-fs::path make_test_dir()
-{
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path d = fs::temp_directory_path() / ("fracdem_io_" + std::to_string(::getpid()) + "_" +
-                                            info->test_suite_name() + "_" + info->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::string& path)
 {
@@ -55,28 +42,12 @@ std::string slurp(const fs::path& p)
 
 } // namespace
 
-class IoVtk : public ::testing::Test
+class IoVtk : public fracdem_test::TempDirTest
 {
-protected:
-  void SetUp() override { dir_ = make_test_dir(); }
-  void TearDown() override
-  {
-    std::error_code ec;
-    if (!HasFailure()) fs::remove_all(dir_, ec);
-  }
-  fs::path dir_;
 };
 
-class IoPvd : public ::testing::Test
+class IoPvd : public fracdem_test::TempDirTest
 {
-protected:
-  void SetUp() override { dir_ = make_test_dir(); }
-  void TearDown() override
-  {
-    std::error_code ec;
-    if (!HasFailure()) fs::remove_all(dir_, ec);
-  }
-  fs::path dir_;
 };
 
 TEST_F(IoVtk, TetMeshFieldsAndInactiveElementOmitted)

@@ -13,6 +13,33 @@ namespace
 const int kTetFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
 } // namespace
 
+double tet_volume6(const double* X, const std::array<int, 4>& c)
+{
+  const double* a = &X[3 * c[0]];
+  double u[3], v[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = X[3 * c[1] + k] - a[k];
+    v[k] = X[3 * c[2] + k] - a[k];
+    w[k] = X[3 * c[3] + k] - a[k];
+  }
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+         u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+double signed_measure(const Mesh& m, int e)
+{
+  const auto& c = m.conn[e];
+  if (m.etype[e] == ElemType::Tet4) return tet_volume6(m.X.data(), c) / 6.0;
+  const int nn = nodes_per_elem(m.etype[e]);
+  double a = 0; // shoelace formula
+  for (int k = 0; k < nn; ++k) {
+    const double* p = &m.X[3 * c[k]];
+    const double* q = &m.X[3 * c[(k + 1) % nn]];
+    a += p[0] * q[1] - q[0] * p[1];
+  }
+  return 0.5 * a;
+}
+
 std::vector<Facet> boundary_facets(const Mesh& mesh)
 {
   struct Entry {

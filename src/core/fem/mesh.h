@@ -74,4 +74,12 @@ struct Facet {
 // (sorted by owning element, then local face).
 std::vector<Facet> boundary_facets(const Mesh& mesh);
 
+// Six times the signed volume of the tet with nodes c (3 coordinates per node in X): positive
+// when node 3 lies on the side of face (0, 1, 2) that its right-hand normal points to.
+double tet_volume6(const double* X, const std::array<int, 4>& c);
+
+// Signed measure of element e in the reference configuration: tet volume (sign as above), or the
+// area of a triangle / quad in the x-y plane (positive when counter-clockwise).
+double signed_measure(const Mesh& m, int e);
+
 } // namespace fracdem

@@ -576,19 +576,6 @@ std::string dims_found(const std::array<long, 4>& count)
   return s.empty() ? "none" : s;
 }
 
-double signed_area2(const Mesh& m, int e)
-{
-  const auto& c = m.conn[e];
-  const int nn = nodes_per_elem(m.etype[e]);
-  double a = 0;
-  for (int k = 0; k < nn; ++k) {
-    const double* p = &m.X[3 * c[k]];
-    const double* q = &m.X[3 * c[(k + 1) % nn]];
-    a += p[0] * q[1] - q[0] * p[1];
-  }
-  return a;
-}
-
 } // namespace
 
 Mesh read_gmsh(const std::string& path, int dim)
@@ -754,7 +741,7 @@ Mesh read_gmsh(const std::string& path, int dim)
       mesh.X[3 * i + 2] = 0.0;
     }
     for (int e = 0; e < mesh.num_elems(); ++e) {
-      if (signed_area2(mesh, e) >= 0) continue;
+      if (signed_measure(mesh, e) >= 0) continue;
       auto& c = mesh.conn[e];
       if (mesh.etype[e] == ElemType::Tri3)
         std::swap(c[1], c[2]);

@@ -22,19 +22,6 @@ void check_length(double l, const char* what)
     throw std::invalid_argument(std::string(what) + " must be > 0, got " + std::to_string(l));
 }
 
-double tet_volume6(const std::vector<double>& X, const std::array<int, 4>& c)
-{
-  const double* a = &X[3 * c[0]];
-  double u[3], v[3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    u[k] = X[3 * c[1] + k] - a[k];
-    v[k] = X[3 * c[2] + k] - a[k];
-    w[k] = X[3 * c[3] + k] - a[k];
-  }
-  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-         u[2] * (v[0] * w[1] - v[1] * w[0]);
-}
-
 } // namespace
 
 Mesh make_box_tet_mesh(int nx, int ny, int nz, double lx, double ly, double lz,
@@ -73,7 +60,7 @@ Mesh make_box_tet_mesh(int nx, int ny, int nz, double lx, double ly, double lz,
         for (const auto& p : perms) {
           const int b1 = 1 << p[0], b2 = b1 | (1 << p[1]);
           std::array<int, 4> c{{v(0), v(b1), v(b2), v(7)}};
-          if (tet_volume6(m.X, c) < 0) std::swap(c[2], c[3]); // odd axis orders
+          if (tet_volume6(m.X.data(), c) < 0) std::swap(c[2], c[3]); // odd axis orders
           m.conn.push_back(c);
         }
       }

@@ -1,0 +1,80 @@
+// Shared helpers of the unit tests: per-test scratch directories and independent element-measure
+// oracles (written apart from the library's own, so that tests check it rather than echo it).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <system_error>
+
+#include "fem/mesh.h"
+
+namespace fracdem_test
+{
+
+// A fresh directory per test (pid + test name, so parallel ctest runs do not collide).
+inline std::filesystem::path make_test_dir()
+{
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::filesystem::path d =
+      std::filesystem::temp_directory_path() / ("fracdem_io_" + std::to_string(::getpid()) + "_" +
+                                                info->test_suite_name() + "_" + info->name());
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// Fixture owning such a directory; removed afterwards unless the test failed.
+class TempDirTest : public ::testing::Test
+{
+protected:
+  void SetUp() override { dir_ = make_test_dir(); }
+  void TearDown() override
+  {
+    std::error_code ec;
+    if (!HasFailure()) std::filesystem::remove_all(dir_, ec);
+  }
+  std::string write_file(const std::string& name, const std::string& text) const
+  {
+    const std::filesystem::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p.string();
+  }
+  std::filesystem::path dir_;
+};
+
+// Signed volume of tet element e (positive for the library's orientation convention).
+inline double tet_volume(const fracdem::Mesh& m, int e)
+{
+  const auto& c = m.conn[e];
+  const double* a = &m.X[3 * c[0]];
+  double u[3], v[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = m.X[3 * c[1] + k] - a[k];
+    v[k] = m.X[3 * c[2] + k] - a[k];
+    w[k] = m.X[3 * c[3] + k] - a[k];
+  }
+  return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+          u[2] * (v[0] * w[1] - v[1] * w[0])) /
+         6.0;
+}
+
+// Signed area of a 2D element in the x-y plane (positive counter-clockwise).
+inline double signed_area(const fracdem::Mesh& m, int e)
+{
+  const auto& c = m.conn[e];
+  const int nn = fracdem::nodes_per_elem(m.etype[e]);
+  double a = 0;
+  for (int k = 0; k < nn; ++k) {
+    const double* p = &m.X[3 * c[k]];
+    const double* q = &m.X[3 * c[(k + 1) % nn]];
+    a += p[0] * q[1] - q[0] * p[1];
+  }
+  return 0.5 * a;
+}
+
+} // namespace fracdem_test
