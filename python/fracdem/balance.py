@@ -52,14 +52,19 @@ def run_stats(text):
 def summarize_balance(df, nprocs, loop_s=None):
     """Run summary from a fix balance/graph CSV.
 
-    measured_B: time average of max/avg per-rank CPU work (each row covers one check interval);
+    measured_B: time average of max/avg per-rank CPU work, each row (one check interval)
+    weighted by its number of steps (the run is taken to start at step 0);
     speedup: work-model speedup sum(W)/max(W) over the whole run, sum over intervals of
     (avg * nprocs) / sum of max; partition_share: partition + migration time over loop time.
     """
     d = {}
     rows = df[df["cpu_work_avg"] > 0]
-    d["measured_B"] = float(rows["measured_imbalance"].mean()) if len(rows) else 1.0
-    d["model_B"] = float(df["imbalance"].mean())
+    steps = df["step"].diff().fillna(df["step"].iloc[0] if len(df) else 0)
+    w = steps[rows.index].clip(lower=1)
+    d["measured_B"] = (float((rows["measured_imbalance"] * w).sum() / w.sum())
+                       if len(rows) else 1.0)
+    all_w = steps.clip(lower=1)
+    d["model_B"] = float((df["imbalance"] * all_w).sum() / all_w.sum())
     tot_max = float(rows["cpu_work_max"].sum())
     d["speedup"] = float(rows["cpu_work_avg"].sum() * nprocs / tot_max) if tot_max > 0 else 1.0
     d["repartitions"] = int(df["repartitioned"].sum())

@@ -295,18 +295,24 @@ void FixBalanceGraph::init()
   comm_graph_->set_cover_limits(std::move(limits));
 }
 
+// Like LAMMPS fix balance, the first run starts balanced: a check at its first step (the host's
+// neighbour list exists only after setup) with the model costs, since nothing has been timed yet.
 void FixBalanceGraph::setup_pre_exchange()
 {
-  next_reneighbor = (update->ntimestep / check_every_) * check_every_ + check_every_;
+  const bigint regular = (update->ntimestep / check_every_) * check_every_ + check_every_;
+  start_check_ = comm->nprocs > 1 && !comm_graph_->graph_ownership();
+  next_reneighbor = start_check_ ? std::min<bigint>(update->ntimestep + 1, regular) : regular;
 }
 
 void FixBalanceGraph::pre_exchange()
 {
   if (update->ntimestep != next_reneighbor) return;
-  next_reneighbor += check_every_;
+  const bool start_check = start_check_;
+  start_check_ = false;
+  next_reneighbor = (update->ntimestep / check_every_) * check_every_ + check_every_;
 
   LocalCosts lc;
-  measure(lc);
+  measure(lc, cost_model_ == CostModel::Timed && !start_check);
   double sum = 0, max = 0;
   MPI_Allreduce(&lc.total, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&lc.total, &max, 1, MPI_DOUBLE, MPI_MAX, world);
@@ -354,7 +360,7 @@ void FixBalanceGraph::pre_exchange()
   }
 }
 
-void FixBalanceGraph::measure(LocalCosts& lc)
+void FixBalanceGraph::measure(LocalCosts& lc, bool use_timing)
 {
   const int nlocal = atom->nlocal;
   lc.cost.assign(nlocal, 0.0);
@@ -440,7 +446,7 @@ void FixBalanceGraph::measure(LocalCosts& lc)
     lc.total += c;
 
   // Measured time replaces the modelled total; the model only splits it among particles.
-  if (cost_model_ == CostModel::Timed) {
+  if (use_timing) {
     const double spent = cpu_work_;
     if (lc.total > 0 && spent > 0) {
       const double scale = spent / lc.total;

@@ -67,6 +67,7 @@ private:
   // defined before this one: walls, FE contact) since the last check; the measured work.
   double cpu_work_ = 0, cpu_start_ = 0;
   bool cpu_from_neighbor_ = false;
+  bool start_check_ = false; // the next check is the one at the first step of the first run
 
   // Outputs (see docs/fix_balance_graph.md).
   double imbalance_ = 1.0, imbalance_before_ = 1.0, imbalance_predicted_ = 1.0;
@@ -75,7 +76,8 @@ private:
   double measured_imbalance_ = 1.0;
   std::vector<double> owner_rank_; // per-atom output: the rank that owns the particle
 
-  void measure(LocalCosts& lc);
+  // use_timing: replace the modelled rank total by the measured CPU time (cost timed).
+  void measure(LocalCosts& lc, bool use_timing);
   void repartition(const LocalCosts& lc);
   void repartition_cells(const LocalCosts& lc);
   void record_repartition(const double stats[2], double migrated);

@@ -52,6 +52,9 @@ for np_ in (2, 3):
                 f"np={np_} {name}: {reps:.0f} repartitions moved {migrated:.0f} particles")
         h.check(csv["imbalance"][0] > 1.5,
                 f"np={np_} {name}: z-slabs start imbalanced (B = {csv['imbalance'][0]:.2f})")
+        h.check(csv["step"][0] == 1 and csv["repartitioned"][0] == 1,
+                f"np={np_} {name}: the run starts balanced (first check at step 1, "
+                f"repartitioned: {csv['repartitioned'][0]:.0f})")
         h.check(csv["predicted_imbalance"][0] < 1.1,
                 f"np={np_} {name}: METIS partition balances the work model "
                 f"(predicted B = {csv['predicted_imbalance'][0]:.3f})")
