@@ -20,9 +20,8 @@ using namespace LAMMPS_NS;
 namespace
 {
 constexpr int kExchangeSlack = 1000; // doubles beyond the per-atom maximum, as the stock comm
-constexpr std::int64_t kMaxCells = std::int64_t(1) << 24;      // cover grid size limit
-constexpr int kStencil = 2;                                    // cover cells per ghost cutoff
-constexpr std::int64_t kMaxDenseCells = std::int64_t(1) << 22; // dense cell index up to 32 MB
+constexpr std::int64_t kMaxCells = std::int64_t(1) << 24; // cover grid size limit
+constexpr int kStencil = 2;                               // cover cells per ghost cutoff
 } // namespace
 
 CommGraph::CommGraph(LAMMPS* lmp) : Comm(lmp) {}
@@ -282,49 +281,176 @@ void CommGraph::borders()
     MPI_Allgather(mine_boxes.data(), 6 * nbox, MPI_DOUBLE, bricks.data(), 6 * nbox, MPI_DOUBLE,
                   world);
   }
-  // Everyone's occupied cells, as (cell, rank, atom box) sorted by cell and rank.
-  int my_count = static_cast<int>(my_cells.size());
-  std::vector<int> counts(nprocs), displs(nprocs);
-  MPI_Allgather(&my_count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int p = 0; p < nprocs; ++p)
-    displs[p] = total, total += counts[p];
-  std::vector<std::int64_t> all_cells(std::max(total, 1));
-  MPI_Allgatherv(my_cells.data(), my_count, MPI_INT64_T, all_cells.data(), counts.data(),
-                 displs.data(), MPI_INT64_T, world);
-  std::vector<double> all_boxes(6 * std::max(total, 1));
-  {
-    std::vector<int> counts6(nprocs), displs6(nprocs);
-    for (int p = 0; p < nprocs; ++p)
-      counts6[p] = 6 * counts[p], displs6[p] = 6 * displs[p];
-    MPI_Allgatherv(my_boxes.data(), 6 * my_count, MPI_DOUBLE, all_boxes.data(), counts6.data(),
-                   displs6.data(), MPI_DOUBLE, world);
-  }
-  cell_owner_.clear();
-  cell_owner_.reserve(total);
-  for (int p = 0; p < nprocs; ++p)
-    for (int k = displs[p]; k < displs[p] + counts[p]; ++k) {
-      CellOwner co;
-      co.first = all_cells[k];
-      co.second = p;
-      std::copy(&all_boxes[6 * k], &all_boxes[6 * k] + 6, co.box);
-      cell_owner_.push_back(co);
+  const double cut2 = cutghost[0] * cutghost[0];
+  // Box tests that decide what is exchanged get a little slack: a superset is harmless.
+  const double reach2 = cut2 * (1.0 + 1e-9);
+  const int nshift = static_cast<int>(shifts_.size());
+  // Squared gap between box a shifted by periodic image s and box b (6 doubles: lo, hi).
+  auto box_gap2 = [&](const double* a, int s, const double* b) {
+    double g2 = 0;
+    for (int d = 0; d < dim; ++d) {
+      const double off = shifts_[s][d] * prd[d];
+      const double gap = std::max({b[d] - (a[3 + d] + off), 0.0, (a[d] + off) - b[3 + d]});
+      g2 += gap * gap;
     }
+    return g2;
+  };
+
+  // The cell range my atoms occupy per dimension, taken circularly across periodic boundaries
+  // (a part that straddles one is still compact): start cell and length.
+  std::int64_t span_lo[3] = {0, 0, 0}, span_n[3] = {1, 1, 1};
+  {
+    std::vector<char> occupied;
+    for (int d = 0; d < dim; ++d) {
+      occupied.assign(ncell[d], 0);
+      for (std::int64_t id : my_cells) {
+        const std::int64_t c[3] = {id % ncell[0], (id / ncell[0]) % ncell[1],
+                                   id / (ncell[0] * ncell[1])};
+        occupied[c[d]] = 1;
+      }
+      span_lo[d] = 0, span_n[d] = ncell[d];
+      if (my_cells.empty()) continue;
+      if (!periodic[d]) {
+        std::int64_t lo = 0, hi = ncell[d] - 1;
+        while (!occupied[lo])
+          ++lo;
+        while (!occupied[hi])
+          --hi;
+        span_lo[d] = lo, span_n[d] = hi - lo + 1;
+        continue;
+      }
+      // Largest circular run of empty cells; the span is its complement.
+      std::int64_t best = 0, best_end = 0, run = 0;
+      for (std::int64_t k = 0; k < 2 * ncell[d]; ++k) {
+        run = occupied[k % ncell[d]] ? 0 : run + 1;
+        if (run > best && run <= ncell[d]) best = run, best_end = k;
+      }
+      if (best > 0) span_lo[d] = (best_end + 1) % ncell[d], span_n[d] = ncell[d] - best;
+    }
+  }
+  // My atoms' bounding box in coordinates unwrapped to that span (its upper bound may pass the
+  // box's): the test for which ranks exchange cover cells with me.
+  double my_box[6] = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (int i = 0; i < nlocal; ++i)
+    for (int d = 0; d < 3; ++d) {
+      double xd = x[i][d];
+      if (d < dim && periodic[d] && cell_coord(xd, d) < span_lo[d]) xd += prd[d];
+      my_box[d] = std::min(my_box[d], xd), my_box[3 + d] = std::max(my_box[3 + d], xd);
+    }
+
+  // Cover cells are exchanged with nearby ranks only, so that the work per rank scales with its
+  // own atoms, not with the whole system: the ranks whose atom boxes come within the cutoff of
+  // mine (some periodic image). Every atom that can need a ghost of mine, and every cover box my
+  // atoms can be tested against, belongs to such a rank.
+  std::vector<double> rank_boxes(6 * nprocs);
+  MPI_Allgather(my_box, 6, MPI_DOUBLE, rank_boxes.data(), 6, MPI_DOUBLE, world);
+  std::vector<int> partners;
+  for (int q = 0; q < nprocs; ++q) {
+    if (q == me) continue;
+    // Evaluated on the ordered pair so that both ranks reach the same verdict bit for bit.
+    const double* a = &rank_boxes[6 * std::min(me, q)];
+    const double* b = &rank_boxes[6 * std::max(me, q)];
+    for (int sh = 0; sh < nshift; ++sh)
+      if (box_gap2(a, sh, b) <= reach2) {
+        partners.push_back(q);
+        break;
+      }
+  }
+  // To each partner: my cover cells that some image of its atoms' box can reach, as
+  // (cell, box) records of 7 doubles (cell ids stay far below 2^53).
+  const int npart = static_cast<int>(partners.size());
+  std::vector<std::vector<double>> send_cells(npart), recv_cells(npart);
+  std::vector<int> send_n(npart), recv_n(npart);
+  for (int k = 0; k < npart; ++k) {
+    const double* pbox = &rank_boxes[6 * partners[k]];
+    for (size_t m = 0; m < my_cells.size(); ++m) {
+      const double* cb = &my_boxes[6 * m];
+      bool near = false;
+      for (int sh = 0; sh < nshift && !near; ++sh)
+        near = box_gap2(cb, sh, pbox) <= reach2;
+      if (!near) continue;
+      send_cells[k].push_back(static_cast<double>(my_cells[m]));
+      send_cells[k].insert(send_cells[k].end(), cb, cb + 6);
+    }
+    send_n[k] = static_cast<int>(send_cells[k].size());
+  }
+  {
+    std::vector<MPI_Request> req(2 * npart);
+    for (int k = 0; k < npart; ++k) {
+      MPI_Irecv(&recv_n[k], 1, MPI_INT, partners[k], 1, world, &req[2 * k]);
+      MPI_Isend(&send_n[k], 1, MPI_INT, partners[k], 1, world, &req[2 * k + 1]);
+    }
+    MPI_Waitall(2 * npart, req.data(), MPI_STATUSES_IGNORE);
+    for (int k = 0; k < npart; ++k) {
+      recv_cells[k].resize(recv_n[k]);
+      MPI_Irecv(recv_cells[k].data(), recv_n[k], MPI_DOUBLE, partners[k], 2, world, &req[2 * k]);
+      MPI_Isend(send_cells[k].data(), send_n[k], MPI_DOUBLE, partners[k], 2, world,
+                &req[2 * k + 1]);
+    }
+    MPI_Waitall(2 * npart, req.data(), MPI_STATUSES_IGNORE);
+  }
+  // Cover cells of my partners and me, as (cell, rank, atom box) sorted by cell and rank.
+  cell_owner_.clear();
+  auto add_owner = [&](std::int64_t cell, int rank, const double* box) {
+    CellOwner co;
+    co.first = cell;
+    co.second = rank;
+    std::copy(box, box + 6, co.box);
+    cell_owner_.push_back(co);
+  };
+  for (size_t m = 0; m < my_cells.size(); ++m)
+    add_owner(my_cells[m], me, &my_boxes[6 * m]);
+  for (int k = 0; k < npart; ++k)
+    for (int r = 0; r + 6 < recv_n[k]; r += 7)
+      add_owner(static_cast<std::int64_t>(recv_cells[k][r]), partners[k], &recv_cells[k][r + 1]);
   std::sort(cell_owner_.begin(), cell_owner_.end(), [](const CellOwner& a, const CellOwner& b) {
     return a.first != b.first ? a.first < b.first : a.second < b.second;
   });
-  // Constant-time lookup of a cell's owners where a dense index fits (the common case).
-  const std::int64_t ncells_total = ncell[0] * ncell[1] * ncell[2];
-  const bool dense = ncells_total <= kMaxDenseCells;
-  if (dense) {
-    cell_start_.assign(ncells_total + 1, 0);
-    for (const auto& co : cell_owner_)
-      ++cell_start_[co.first + 1];
-    for (std::int64_t k = 0; k < ncells_total; ++k)
-      cell_start_[k + 1] += cell_start_[k];
-  }
 
-  const int nshift = static_cast<int>(shifts_.size());
+  // Constant-time lookup of a cell's owners over a window: my span widened by the stencil (a
+  // cell outside it is beyond the reach of every cell of mine).
+  std::int64_t win_lo[3] = {0, 0, 0}, win_n[3] = {1, 1, 1};
+  for (int d = 0; d < dim; ++d) {
+    win_lo[d] = span_lo[d] - kStencil, win_n[d] = span_n[d] + 2 * kStencil;
+    if (periodic[d]) {
+      if (win_n[d] >= ncell[d]) win_lo[d] = 0, win_n[d] = ncell[d];
+      win_lo[d] = (win_lo[d] + ncell[d]) % ncell[d];
+    } else {
+      const std::int64_t hi = std::min(ncell[d], win_lo[d] + win_n[d]);
+      win_lo[d] = std::max<std::int64_t>(0, win_lo[d]), win_n[d] = hi - win_lo[d];
+    }
+  }
+  auto window_slot = [&](const std::int64_t c[3]) -> std::int64_t {
+    std::int64_t slot = 0;
+    for (int d = 2; d >= 0; --d) {
+      std::int64_t t = c[d] - win_lo[d];
+      if (periodic[d] && t < 0) t += ncell[d];
+      if (t < 0 || t >= win_n[d]) return -1;
+      slot = slot * win_n[d] + t;
+    }
+    return slot;
+  };
+  owner_slot_.assign(win_n[0] * win_n[1] * win_n[2], -1);
+  for (size_t k = 0; k < cell_owner_.size(); ++k)
+    if (k == 0 || cell_owner_[k].first != cell_owner_[k - 1].first) {
+      const std::int64_t id = cell_owner_[k].first;
+      const std::int64_t c[3] = {id % ncell[0], (id / ncell[0]) % ncell[1],
+                                 id / (ncell[0] * ncell[1])};
+      const std::int64_t slot = window_slot(c);
+      if (slot >= 0) owner_slot_[slot] = static_cast<std::int64_t>(k);
+    }
+  auto owners = [&](const std::int64_t c[3]) {
+    const std::int64_t slot = window_slot(c);
+    const std::int64_t id = cell_id(c[0], c[1], c[2]);
+    if (slot < 0 || owner_slot_[slot] < 0) return std::make_pair(std::int64_t(0), std::int64_t(0));
+    std::int64_t last = owner_slot_[slot];
+    while (last < static_cast<std::int64_t>(cell_owner_.size()) && cell_owner_[last].first == id)
+      ++last;
+    return std::make_pair(owner_slot_[slot], last);
+  };
+
+  const int zr = dim == 3 ? kStencil : 0;
+
   for (int iswap = 0; iswap < nswap; ++iswap)
     sendnum[iswap] = 0;
   auto shift_index = [&](const int sh[3]) {
@@ -332,17 +458,6 @@ void CommGraph::borders()
       if (shifts_[s][0] == sh[0] && shifts_[s][1] == sh[1] && shifts_[s][2] == sh[2]) return s;
     return -1;
   };
-  auto owners = [&](std::int64_t id) {
-    if (dense)
-      return std::make_pair(cell_owner_.begin() + cell_start_[id],
-                            cell_owner_.begin() + cell_start_[id + 1]);
-    CellOwner key;
-    key.first = id;
-    return std::equal_range(cell_owner_.begin(), cell_owner_.end(), key,
-                            [](const auto& a, const auto& b) { return a.first < b.first; });
-  };
-  const double cut2 = cutghost[0] * cutghost[0];
-  const int zr = dim == 3 ? kStencil : 0;
 
   // Per cell of mine, once: the nearby cells (within the cutoff of the cell) whose owners need
   // images from it. Interior cells get none, so their atoms cost nothing below.
@@ -363,8 +478,6 @@ void CommGraph::borders()
           double gap2 = 0;
           for (int d = 0; d < 3 && valid; ++d) {
             n[d] = c[d] + off[d];
-            cand.lo[d] = boxlo[d] + n[d] * cell_size[d];
-            cand.hi[d] = cand.lo[d] + cell_size[d];
             if (d < dim) {
               const double gap = std::max(0.0, (std::abs(off[d]) - 1) * cell_size[d]);
               gap2 += gap * gap;
@@ -381,14 +494,19 @@ void CommGraph::borders()
             }
           }
           if (!valid || gap2 > cut2) continue;
-          cand.shift = shift_index(sh);
-          const auto range = owners(cell_id(n[0], n[1], n[2]));
+          const auto range = owners(n);
+          const bool unshifted = sh[0] == 0 && sh[1] == 0 && sh[2] == 0;
           bool useful = false;
-          for (auto it = range.first; it != range.second; ++it)
-            if (!(it->second == me && cand.shift == 0)) useful = true;
+          for (std::int64_t o = range.first; o < range.second && !useful; ++o)
+            useful = !(cell_owner_[o].second == me && unshifted);
           if (!useful) continue;
-          cand.first = static_cast<std::int64_t>(range.first - cell_owner_.begin());
-          cand.last = static_cast<std::int64_t>(range.second - cell_owner_.begin());
+          for (int d = 0; d < 3; ++d) { // the cell's bounds in my frame (unwrapped)
+            cand.lo[d] = boxlo[d] + (c[d] + off[d]) * cell_size[d];
+            cand.hi[d] = cand.lo[d] + cell_size[d];
+          }
+          cand.shift = shift_index(sh);
+          cand.first = range.first;
+          cand.last = range.second;
           cands_.push_back(cand);
         }
     cand_start_[m + 1] = static_cast<std::int64_t>(cands_.size());

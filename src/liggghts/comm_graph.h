@@ -83,7 +83,7 @@ private:
     double box[6] = {0, 0, 0, 0, 0, 0};
   };
   std::vector<CellOwner> cell_owner_;    // sorted by cell, then rank
-  std::vector<std::int64_t> cell_start_; // dense CSR index into cell_owner_
+  std::vector<std::int64_t> owner_slot_; // first cell_owner_ entry per cell of a local window
   // A cell near one of mine whose owners need images from my cell: its unwrapped bounds, the
   // image shift and its range in cell_owner_.
   struct Candidate {
