@@ -18,6 +18,9 @@ double hertz_surface_profile(double s);
 struct SurfacePatch {
   std::vector<int> nodes;
   std::vector<double> radius; // in-plane distance from c
+  // Scratch kept between calls: per node, the epoch of the last search that visited it.
+  std::vector<unsigned> visited;
+  unsigned epoch = 0;
 };
 void gather_surface_patch(const SurfaceTopology& topo, const double* x, const int* seeds,
                           int nseeds, const double c[3], const double n[3], double rmax,
