@@ -5,6 +5,8 @@ import re
 import numpy as np
 import pandas as pd
 
+from . import plots
+
 _STAT = re.compile(r"^(Nlocal|Nghost|Neighs):\s+(\S+)\s+ave\s+(\S+)\s+max\s+(\S+)\s+min")
 _BREAKDOWN = re.compile(r"^(Pair|Neigh|Comm|Modify|Output|Other)\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|")
 _LOOP = re.compile(r"^Loop time of\s+(\S+)\s+on\s+(\d+)\s+procs")
@@ -93,31 +95,11 @@ def markdown_table(rows, columns, floatfmt="{:.3g}"):
     return "\n".join(lines)
 
 
-def _figure():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4))
-    return plt, fig, ax
-
-
-def _finish(plt, fig, ax, title, out):
-    ax.set_title(title)
-    ax.legend()
-    fig.tight_layout()
-    if out:
-        fig.savefig(out, dpi=120)
-    plt.close(fig)
-    return fig
-
-
 def plot_rank_work(runs, out=None, title="Per-rank work"):
     """Fig. 4-style grouped bars: total CPU work of each rank for each method.
 
     runs: dict method -> list of per-rank work values (seconds)."""
-    plt, fig, ax = _figure()
+    _, fig, ax = plots.new_figure(True, figsize=(7, 4))
     methods = list(runs)
     nranks = max(len(v) for v in runs.values())
     width = 0.8 / max(len(methods), 1)
@@ -128,15 +110,15 @@ def plot_rank_work(runs, out=None, title="Per-rank work"):
     ax.set_xticklabels([str(r) for r in range(nranks)])
     ax.set_xlabel("rank")
     ax.set_ylabel("CPU time of particle work (s)")
-    return _finish(plt, fig, ax, title, out)
+    return plots.finish_figure(fig, ax, out, title=title, close=True)
 
 
 def plot_imbalance_history(series, out=None, title="Imbalance over the run"):
     """B over time: series is dict method -> (steps, B values)."""
-    plt, fig, ax = _figure()
+    _, fig, ax = plots.new_figure(True, figsize=(7, 4))
     for m, (steps, b) in series.items():
         ax.plot(steps, b, marker=".", label=m)
     ax.set_xlabel("step")
     ax.set_ylabel("max/avg per-rank CPU work")
     ax.axhline(1.0, color="k", lw=0.5)
-    return _finish(plt, fig, ax, title, out)
+    return plots.finish_figure(fig, ax, out, title=title, close=True)

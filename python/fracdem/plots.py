@@ -12,6 +12,28 @@ def _pyplot(save):
     return plt
 
 
+def new_figure(save, figsize=(6, 3.5)):
+    """(pyplot, figure, axes) for one plot; a headless backend when the plot is only saved."""
+    plt = _pyplot(save)
+    fig, ax = plt.subplots(figsize=figsize)
+    return plt, fig, ax
+
+
+def finish_figure(fig, ax, out=None, title=None, close=False):
+    """Legend, title and layout; saved to `out` if given; closed if asked. Returns the figure."""
+    if title:
+        ax.set_title(title)
+    ax.legend()
+    fig.tight_layout()
+    if out:
+        fig.savefig(out, dpi=120)
+    if close:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+    return fig
+
+
 def plot_energy(data, columns=None, ax=None, out=None):
     """Plot energy columns (default kinetic, strain, total) of a fem/body energy DataFrame vs time."""
     plt = _pyplot(out is not None)
@@ -24,25 +46,16 @@ def plot_energy(data, columns=None, ax=None, out=None):
         ax.plot(df[x], df[c], label=c)
     ax.set_xlabel("time (s)" if x == "time" else "step")
     ax.set_ylabel("energy (J)")
-    ax.legend()
-    fig.tight_layout()
-    if out:
-        fig.savefig(out, dpi=120)
-    return fig
+    return finish_figure(fig, ax, out)
 
 
 def plot_thermo(log, columns, out=None):
     """Plot thermo columns of a Log (or DataFrame) against Step, one line each."""
-    plt = _pyplot(out is not None)
+    _, fig, ax = new_figure(out is not None)
     df = log if isinstance(log, pd.DataFrame) else log.thermo
-    fig, ax = plt.subplots(figsize=(6, 3.5))
     for c in columns:
         if c not in df:
             raise KeyError(f"thermo has no column {c!r}; it has {list(df.columns)}")
         ax.plot(df["Step"], df[c], label=c)
     ax.set_xlabel("step")
-    ax.legend()
-    fig.tight_layout()
-    if out:
-        fig.savefig(out, dpi=120)
-    return fig
+    return finish_figure(fig, ax, out)
