@@ -316,6 +316,7 @@ void FixBalanceGraph::pre_exchange()
   double sum = 0, max = 0;
   MPI_Allreduce(&lc.total, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&lc.total, &max, 1, MPI_DOUBLE, MPI_MAX, world);
+  lc.sum_all = sum;
   const double avg = sum / comm->nprocs;
   imbalance_ = avg > 0 ? max / avg : 1.0;
 
@@ -515,20 +516,10 @@ void FixBalanceGraph::repartition(const LocalCosts& lc)
   const int me = comm->me, nprocs = comm->nprocs;
   const int nlocal = atom->nlocal;
 
-  // Vertex weights: potential targets (a priori) or the recorded cost (a posteriori), as
-  // integers with an average particle worth kWeightResolution.
-  double sum_cost = 0, n_all = 0, local_n = nlocal;
-  MPI_Allreduce(&lc.total, &sum_cost, 1, MPI_DOUBLE, MPI_SUM, world);
-  MPI_Allreduce(&local_n, &n_all, 1, MPI_DOUBLE, MPI_SUM, world);
-  const double mean_cost = n_all > 0 && sum_cost > 0 ? sum_cost / n_all : 1.0;
+  const std::vector<std::int64_t> weight = vertex_weights(lc);
   std::vector<std::int64_t> verts(2 * nlocal);
-  for (int i = 0; i < nlocal; ++i) {
-    verts[2 * i] = atom->tag[i];
-    const double w = graph_model_ == GraphModel::APriori
-                         ? static_cast<double>(std::max<std::int64_t>(1, lc.potential[i]))
-                         : kWeightResolution * lc.cost[i] / mean_cost;
-    verts[2 * i + 1] = std::max<std::int64_t>(1, std::llround(w));
-  }
+  for (int i = 0; i < nlocal; ++i)
+    verts[2 * i] = atom->tag[i], verts[2 * i + 1] = weight[i];
 
   // Gather the graph on rank 0 (METIS is serial); vertices keep the order of their ranks.
   const GatheredGraph gg = gather_graph(verts, lc.edges);
@@ -597,6 +588,24 @@ void FixBalanceGraph::repartition(const LocalCosts& lc)
   record_repartition(stats, migrated);
 }
 
+// Vertex weight per local particle: potential targets (a priori) or the recorded cost
+// (a posteriori), as integers >= 1 with an average particle worth kWeightResolution.
+std::vector<std::int64_t> FixBalanceGraph::vertex_weights(const LocalCosts& lc) const
+{
+  const int nlocal = atom->nlocal;
+  double n_all = 0, local_n = nlocal;
+  MPI_Allreduce(&local_n, &n_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double mean_cost = n_all > 0 && lc.sum_all > 0 ? lc.sum_all / n_all : 1.0;
+  std::vector<std::int64_t> weight(nlocal);
+  for (int i = 0; i < nlocal; ++i) {
+    const double w = graph_model_ == GraphModel::APriori
+                         ? static_cast<double>(std::max<std::int64_t>(1, lc.potential[i]))
+                         : kWeightResolution * lc.cost[i] / mean_cost;
+    weight[i] = std::max<std::int64_t>(1, std::llround(w));
+  }
+  return weight;
+}
+
 void FixBalanceGraph::record_repartition(const double stats[2], double migrated)
 {
   imbalance_before_ = imbalance_;
@@ -622,19 +631,12 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
 {
   const int me = comm->me, nprocs = comm->nprocs;
   const int nlocal = atom->nlocal;
-  double sum_cost = 0, n_all = 0, local_n = nlocal;
-  MPI_Allreduce(&lc.total, &sum_cost, 1, MPI_DOUBLE, MPI_SUM, world);
-  MPI_Allreduce(&local_n, &n_all, 1, MPI_DOUBLE, MPI_SUM, world);
-  const double mean_cost = n_all > 0 && sum_cost > 0 ? sum_cost / n_all : 1.0;
 
   // Local aggregation: (cell, weight) of this rank's particles, and cell-pair edge weights.
+  const std::vector<std::int64_t> weight = vertex_weights(lc);
   std::unordered_map<std::int64_t, std::int64_t> cell_weight;
-  for (int i = 0; i < nlocal; ++i) {
-    const double w = graph_model_ == GraphModel::APriori
-                         ? static_cast<double>(std::max<std::int64_t>(1, lc.potential[i]))
-                         : kWeightResolution * lc.cost[i] / mean_cost;
-    cell_weight[lc.cell[i]] += std::max<std::int64_t>(1, std::llround(w));
-  }
+  for (int i = 0; i < nlocal; ++i)
+    cell_weight[lc.cell[i]] += weight[i];
   std::vector<std::int64_t> verts;
   verts.reserve(2 * cell_weight.size());
   for (const auto& cw : cell_weight)

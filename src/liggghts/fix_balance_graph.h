@@ -48,6 +48,7 @@ private:
     std::vector<std::int64_t> edges;     // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
     std::vector<std::int64_t> cell;      // cell of each particle (cell graph only)
     double total = 0;
+    double sum_all = 0; // total over all ranks (set by the check)
   };
 
   int check_every_;
@@ -81,6 +82,7 @@ private:
   void repartition(const LocalCosts& lc);
   void repartition_cells(const LocalCosts& lc);
   void record_repartition(const double stats[2], double migrated);
+  std::vector<std::int64_t> vertex_weights(const LocalCosts& lc) const;
   // Vertex and edge arrays of all ranks on rank 0, with each rank's vertex block.
   struct GatheredGraph {
     std::vector<std::int64_t> verts, edges;
