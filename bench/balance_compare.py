@@ -92,7 +92,8 @@ def main():
     ap.add_argument("--no-lammps", action="store_true")
     ap.add_argument("--methods", nargs="+", help="only methods whose name contains one of these")
     ap.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
-                    help="extra input variable for every run, e.g. --var L 0.3168")
+                    help="input variable for every run, e.g. --var L 0.3168; overrides the "
+                         "method's own, for every method (e.g. --var thresh 1.03 --var every 100)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     script, lammps_script, default_steps, mesh = SCENES[args.scene]
@@ -112,7 +113,7 @@ def main():
         for name, var in methods.items():
             loops, last = [], None
             for _ in range(reps):
-                stats, df = run_one(args.exe, script, np_, dict(steps=steps, balance=1, **extra, **var), mesh)
+                stats, df = run_one(args.exe, script, np_, dict(dict(steps=steps, balance=1, **var), **extra), mesh)
                 loops.append(stats["loop_s"])
                 last = (stats, df)
             stats, df = last

@@ -249,13 +249,16 @@ void CommGraph::borders()
   std::sort(atom_cell.begin(), atom_cell.end());
   std::vector<std::int64_t> my_cells;
   std::vector<double> my_boxes;
+  std::vector<int> my_cell_of(nlocal); // index in my_cells of each atom's cell
   for (const auto& ac : atom_cell) {
     const double* xi = x[ac.second];
     if (my_cells.empty() || my_cells.back() != ac.first) {
       my_cells.push_back(ac.first);
       my_boxes.insert(my_boxes.end(), {xi[0], xi[1], xi[2], xi[0], xi[1], xi[2]});
+      my_cell_of[ac.second] = static_cast<int>(my_cells.size() - 1);
       continue;
     }
+    my_cell_of[ac.second] = static_cast<int>(my_cells.size() - 1);
     double* b = &my_boxes[my_boxes.size() - 6];
     for (int d = 0; d < 3; ++d)
       b[d] = std::min(b[d], xi[d]), b[3 + d] = std::max(b[3 + d], xi[d]);
@@ -393,8 +396,8 @@ void CommGraph::borders()
   cell_owner_.clear();
   auto add_owner = [&](std::int64_t cell, int rank, const double* box) {
     CellOwner co;
-    co.first = cell;
-    co.second = rank;
+    co.cell = cell;
+    co.rank = rank;
     std::copy(box, box + 6, co.box);
     cell_owner_.push_back(co);
   };
@@ -404,7 +407,7 @@ void CommGraph::borders()
     for (int r = 0; r + 6 < recv_n[k]; r += 7)
       add_owner(static_cast<std::int64_t>(recv_cells[k][r]), partners[k], &recv_cells[k][r + 1]);
   std::sort(cell_owner_.begin(), cell_owner_.end(), [](const CellOwner& a, const CellOwner& b) {
-    return a.first != b.first ? a.first < b.first : a.second < b.second;
+    return a.cell != b.cell ? a.cell < b.cell : a.rank < b.rank;
   });
 
   // Constant-time lookup of a cell's owners over a window: my span widened by the stencil (a
@@ -432,8 +435,8 @@ void CommGraph::borders()
   };
   owner_slot_.assign(win_n[0] * win_n[1] * win_n[2], -1);
   for (size_t k = 0; k < cell_owner_.size(); ++k)
-    if (k == 0 || cell_owner_[k].first != cell_owner_[k - 1].first) {
-      const std::int64_t id = cell_owner_[k].first;
+    if (k == 0 || cell_owner_[k].cell != cell_owner_[k - 1].cell) {
+      const std::int64_t id = cell_owner_[k].cell;
       const std::int64_t c[3] = {id % ncell[0], (id / ncell[0]) % ncell[1],
                                  id / (ncell[0] * ncell[1])};
       const std::int64_t slot = window_slot(c);
@@ -444,7 +447,7 @@ void CommGraph::borders()
     const std::int64_t id = cell_id(c[0], c[1], c[2]);
     if (slot < 0 || owner_slot_[slot] < 0) return std::make_pair(std::int64_t(0), std::int64_t(0));
     std::int64_t last = owner_slot_[slot];
-    while (last < static_cast<std::int64_t>(cell_owner_.size()) && cell_owner_[last].first == id)
+    while (last < static_cast<std::int64_t>(cell_owner_.size()) && cell_owner_[last].cell == id)
       ++last;
     return std::make_pair(owner_slot_[slot], last);
   };
@@ -498,7 +501,7 @@ void CommGraph::borders()
           const bool unshifted = sh[0] == 0 && sh[1] == 0 && sh[2] == 0;
           bool useful = false;
           for (std::int64_t o = range.first; o < range.second && !useful; ++o)
-            useful = !(cell_owner_[o].second == me && unshifted);
+            useful = !(cell_owner_[o].rank == me && unshifted);
           if (!useful) continue;
           for (int d = 0; d < 3; ++d) { // the cell's bounds in my frame (unwrapped)
             cand.lo[d] = boxlo[d] + (c[d] + off[d]) * cell_size[d];
@@ -514,11 +517,7 @@ void CommGraph::borders()
 
   std::vector<int> targets; // swap indices this atom goes to, deduplicated
   for (int i = 0; i < nlocal; ++i) {
-    std::int64_t c[3] = {0, 0, 0};
-    for (int d = 0; d < dim; ++d)
-      c[d] = cell_coord(x[i][d], d);
-    const std::int64_t id = cell_id(c[0], c[1], c[2]);
-    const size_t m = std::lower_bound(my_cells.begin(), my_cells.end(), id) - my_cells.begin();
+    const size_t m = my_cell_of[i];
     targets.clear();
     if (cover_brick_) {
       for (int s = 0; s < nshift; ++s) {
@@ -556,7 +555,7 @@ void CommGraph::borders()
       for (int d = 0; d < 3; ++d)
         y[d] = x[i][d] + shifts_[cd.shift][d] * prd[d];
       for (std::int64_t o = cd.first; o < cd.last; ++o) {
-        const int q = cell_owner_[o].second;
+        const int q = cell_owner_[o].rank;
         if (q == me && cd.shift == 0) continue; // an owned atom is no ghost of itself
         const double* b = cell_owner_[o].box;
         double gap2 = 0;

@@ -78,8 +78,8 @@ private:
   std::vector<std::array<int, 3>> shifts_; // periodic image shifts, zero shift first
   // A cover cell of a rank with the bounding box of that rank's atoms in it.
   struct CellOwner {
-    std::int64_t first = 0; // cell
-    int second = -1;        // rank
+    std::int64_t cell = 0;
+    int rank = -1;
     double box[6] = {0, 0, 0, 0, 0, 0};
   };
   std::vector<CellOwner> cell_owner_;    // sorted by cell, then rank
