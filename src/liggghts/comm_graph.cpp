@@ -236,6 +236,9 @@ void CommGraph::borders()
   auto cell_id = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
     return (cz * ncell[1] + cy) * ncell[0] + cx;
   };
+  auto cell_coords = [&](std::int64_t id, std::int64_t c[3]) {
+    c[0] = id % ncell[0], c[1] = (id / ncell[0]) % ncell[1], c[2] = id / (ncell[0] * ncell[1]);
+  };
 
   // My occupied cells with the bounding box of my atoms in each: the cover is tested against
   // those boxes, which is exact where a cell holds one atom (cells are half a cutoff wide).
@@ -255,13 +258,12 @@ void CommGraph::borders()
     if (my_cells.empty() || my_cells.back() != ac.first) {
       my_cells.push_back(ac.first);
       my_boxes.insert(my_boxes.end(), {xi[0], xi[1], xi[2], xi[0], xi[1], xi[2]});
-      my_cell_of[ac.second] = static_cast<int>(my_cells.size() - 1);
-      continue;
+    } else {
+      double* b = &my_boxes[my_boxes.size() - 6];
+      for (int d = 0; d < 3; ++d)
+        b[d] = std::min(b[d], xi[d]), b[3 + d] = std::max(b[3 + d], xi[d]);
     }
     my_cell_of[ac.second] = static_cast<int>(my_cells.size() - 1);
-    double* b = &my_boxes[my_boxes.size() - 6];
-    for (int d = 0; d < 3; ++d)
-      b[d] = std::min(b[d], xi[d]), b[3 + d] = std::max(b[3 + d], xi[d]);
   }
   // Bricks of all ranks, when insertion fixes need every particle near the brick they insert
   // into: tested per atom as boxes (cheap), not as cells (a brick can hold very many cells).
@@ -303,14 +305,17 @@ void CommGraph::borders()
   // (a part that straddles one is still compact): start cell and length.
   std::int64_t span_lo[3] = {0, 0, 0}, span_n[3] = {1, 1, 1};
   {
-    std::vector<char> occupied;
+    std::vector<char> occupied_along[3];
+    for (int d = 0; d < dim; ++d)
+      occupied_along[d].assign(ncell[d], 0);
+    for (std::int64_t id : my_cells) {
+      std::int64_t c[3];
+      cell_coords(id, c);
+      for (int d = 0; d < dim; ++d)
+        occupied_along[d][c[d]] = 1;
+    }
     for (int d = 0; d < dim; ++d) {
-      occupied.assign(ncell[d], 0);
-      for (std::int64_t id : my_cells) {
-        const std::int64_t c[3] = {id % ncell[0], (id / ncell[0]) % ncell[1],
-                                   id / (ncell[0] * ncell[1])};
-        occupied[c[d]] = 1;
-      }
+      const std::vector<char>& occupied = occupied_along[d];
       span_lo[d] = 0, span_n[d] = ncell[d];
       if (my_cells.empty()) continue;
       if (!periodic[d]) {
@@ -436,9 +441,8 @@ void CommGraph::borders()
   owner_slot_.assign(win_n[0] * win_n[1] * win_n[2], -1);
   for (size_t k = 0; k < cell_owner_.size(); ++k)
     if (k == 0 || cell_owner_[k].cell != cell_owner_[k - 1].cell) {
-      const std::int64_t id = cell_owner_[k].cell;
-      const std::int64_t c[3] = {id % ncell[0], (id / ncell[0]) % ncell[1],
-                                 id / (ncell[0] * ncell[1])};
+      std::int64_t c[3];
+      cell_coords(cell_owner_[k].cell, c);
       const std::int64_t slot = window_slot(c);
       if (slot >= 0) owner_slot_[slot] = static_cast<std::int64_t>(k);
     }
@@ -467,9 +471,8 @@ void CommGraph::borders()
   cand_start_.assign(my_cells.size() + 1, 0);
   cands_.clear();
   for (size_t m = 0; m < my_cells.size(); ++m) {
-    const std::int64_t id0 = my_cells[m];
-    const std::int64_t c[3] = {id0 % ncell[0], (id0 / ncell[0]) % ncell[1],
-                               id0 / (ncell[0] * ncell[1])};
+    std::int64_t c[3];
+    cell_coords(my_cells[m], c);
     for (int dz = -zr; dz <= zr; ++dz)
       for (int dy = -kStencil; dy <= kStencil; ++dy)
         for (int dx = -kStencil; dx <= kStencil; ++dx) {
