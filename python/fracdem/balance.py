@@ -61,12 +61,11 @@ def summarize_balance(df, nprocs, loop_s=None):
     """
     d = {}
     rows = df[df["cpu_work_avg"] > 0]
-    steps = df["step"].diff().fillna(df["step"].iloc[0] if len(df) else 0)
-    w = steps[rows.index].clip(lower=1)
+    steps = df["step"].diff().fillna(df["step"].iloc[0] if len(df) else 0).clip(lower=1)
+    w = steps[rows.index]
     d["measured_B"] = (float((rows["measured_imbalance"] * w).sum() / w.sum())
                        if len(rows) else 1.0)
-    all_w = steps.clip(lower=1)
-    d["model_B"] = float((df["imbalance"] * all_w).sum() / all_w.sum())
+    d["model_B"] = float((df["imbalance"] * steps).sum() / steps.sum())
     tot_max = float(rows["cpu_work_max"].sum())
     d["speedup"] = float(rows["cpu_work_avg"].sum() * nprocs / tot_max) if tot_max > 0 else 1.0
     d["repartitions"] = int(df["repartitioned"].sum())

@@ -295,11 +295,17 @@ void FixBalanceGraph::init()
   comm_graph_->set_cover_limits(std::move(limits));
 }
 
+// Regular checks fall on the multiples of Nevery after the current step.
+bigint FixBalanceGraph::next_regular_check() const
+{
+  return (update->ntimestep / check_every_) * check_every_ + check_every_;
+}
+
 // Like LAMMPS fix balance, the first run starts balanced: a check at its first step (the host's
 // neighbour list exists only after setup) with the model costs, since nothing has been timed yet.
 void FixBalanceGraph::setup_pre_exchange()
 {
-  const bigint regular = (update->ntimestep / check_every_) * check_every_ + check_every_;
+  const bigint regular = next_regular_check();
   start_check_ = comm->nprocs > 1 && !comm_graph_->graph_ownership();
   next_reneighbor = start_check_ ? std::min<bigint>(update->ntimestep + 1, regular) : regular;
 }
@@ -309,7 +315,7 @@ void FixBalanceGraph::pre_exchange()
   if (update->ntimestep != next_reneighbor) return;
   const bool start_check = start_check_;
   start_check_ = false;
-  next_reneighbor = (update->ntimestep / check_every_) * check_every_ + check_every_;
+  next_reneighbor = next_regular_check();
 
   LocalCosts lc;
   measure(lc, cost_model_ == CostModel::Timed && !start_check);

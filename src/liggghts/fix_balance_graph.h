@@ -77,6 +77,7 @@ private:
   double measured_imbalance_ = 1.0;
   std::vector<double> owner_rank_; // per-atom output: the rank that owns the particle
 
+  bigint next_regular_check() const;
   // use_timing: replace the modelled rank total by the measured CPU time (cost timed).
   void measure(LocalCosts& lc, bool use_timing);
   void repartition(const LocalCosts& lc);
