@@ -150,6 +150,16 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       error->all(FLERR, msg.c_str());
     }
   };
+  // A keyword that takes one of two words: true for the first, false for the second.
+  auto either = [&](int iarg, const char* keyword, const char* first, const char* second) {
+    const std::string expected = std::string(first) + " or " + second;
+    need(iarg, 1, keyword, expected.c_str());
+    if (!strcmp(arg[iarg + 1], first)) return true;
+    if (!strcmp(arg[iarg + 1], second)) return false;
+    const std::string msg = std::string(kStyle) + ": keyword '" + keyword + "' expects " + expected;
+    error->all(FLERR, msg.c_str());
+    return false;
+  };
   if (narg < 5 || strcmp(arg[3], "file") != 0)
     error->all(FLERR,
                "fix fem/body: expected 'fix ID group fem/body file MESH.msh keyword value ...'");
@@ -227,10 +237,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       transforms_.push_back(t);
       iarg += 7;
     } else if (!strcmp(kw, "rigid")) {
-      need(iarg, 1, kw, "yes or no");
-      if (strcmp(arg[iarg + 1], "yes") && strcmp(arg[iarg + 1], "no"))
-        error->all(FLERR, "fix fem/body: keyword 'rigid' expects yes or no");
-      rigid_ = !strcmp(arg[iarg + 1], "yes");
+      rigid_ = either(iarg, kw, "yes", "no");
       iarg += 2;
     } else if (!strcmp(kw, "motion")) {
       need(iarg, 1, kw, "linear vx vy vz | rotate origin ox oy oz axis ax ay az period T");
@@ -268,22 +275,10 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       normal_model_ = lookup(error, kNormalModelTable, kw, arg[iarg + 1]);
       iarg += 2;
     } else if (!strcmp(kw, "tangential")) {
-      need(iarg, 1, kw, "history or no_history");
-      if (!strcmp(arg[iarg + 1], "history"))
-        tangential_history_ = true;
-      else if (!strcmp(arg[iarg + 1], "no_history"))
-        tangential_history_ = false;
-      else
-        error->all(FLERR, "fix fem/body: keyword 'tangential' expects history or no_history");
+      tangential_history_ = either(iarg, kw, "history", "no_history");
       iarg += 2;
     } else if (!strcmp(kw, "compliance")) {
-      need(iarg, 1, kw, "particle or combined");
-      if (!strcmp(arg[iarg + 1], "particle"))
-        compliance_combined_ = 0;
-      else if (!strcmp(arg[iarg + 1], "combined"))
-        compliance_combined_ = 1;
-      else
-        error->all(FLERR, "fix fem/body: keyword 'compliance' expects particle or combined");
+      compliance_combined_ = either(iarg, kw, "particle", "combined") ? 0 : 1;
       iarg += 2;
     } else if (!strcmp(kw, "buffer")) {
       need(iarg, 1, kw, "a distance");
@@ -291,17 +286,10 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       if (buffer_ < 0) error->all(FLERR, "fix fem/body: keyword 'buffer' must be >= 0");
       iarg += 2;
     } else if (!strcmp(kw, "dt_check")) {
-      need(iarg, 1, kw, "error or warn");
-      if (!strcmp(arg[iarg + 1], "error"))
-        dt_check_error_ = true;
-      else if (!strcmp(arg[iarg + 1], "warn"))
-        dt_check_error_ = false;
-      else
-        error->all(FLERR, "fix fem/body: keyword 'dt_check' expects error or warn");
+      dt_check_error_ = either(iarg, kw, "error", "warn");
       iarg += 2;
     } else if (!strcmp(kw, "gravity")) {
-      need(iarg, 1, kw, "yes or no");
-      apply_gravity_ = !strcmp(arg[iarg + 1], "yes");
+      apply_gravity_ = either(iarg, kw, "yes", "no"); // anything else is an error, not "no"
       iarg += 2;
     } else if (!strcmp(kw, "energy_file")) {
       need(iarg, 2, kw, "FILE N");

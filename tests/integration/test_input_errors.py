@@ -24,6 +24,12 @@ cases = [
      "garbage.msh"),
     ("fix b all fem/body file inverted.msh type 2 density 7800 youngs 2e11 poisson 0.3",
      "inverted"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 gravity maybe",
+     "keyword 'gravity' expects yes or no"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 compliance both",
+     "keyword 'compliance' expects particle or combined"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 dt_check",
+     "keyword 'dt_check' expects error or warn"),
     ("fix b all fem/vtk 10 out body nobody",
      "fem/vtk"),
 ]
