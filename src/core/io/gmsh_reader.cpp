@@ -46,6 +46,23 @@ constexpr GmshType kGmshTypes[] = {
     {31, "tet56", 3, 56},     {92, "hex64", 3, 64},     {93, "hex125", 3, 125},
 };
 
+// The Gmsh type of each body element type, indexed by ElemType (Tri3, Quad4, Tet4): the reader
+// maps back through it, the writer forward.
+constexpr int kGmshTypeOf[] = {2, 3, 4};
+static_assert(static_cast<int>(ElemType::Tri3) == 0 && static_cast<int>(ElemType::Quad4) == 1 &&
+                  static_cast<int>(ElemType::Tet4) == 2,
+              "kGmshTypeOf is indexed by ElemType");
+
+bool elem_type_of_gmsh(int gmsh_type, ElemType& et)
+{
+  for (int k = 0; k < 3; ++k)
+    if (kGmshTypeOf[k] == gmsh_type) {
+      et = static_cast<ElemType>(k);
+      return true;
+    }
+  return false;
+}
+
 const GmshType* find_type(long long type)
 {
   for (const auto& t : kGmshTypes)
@@ -619,13 +636,7 @@ Mesh read_gmsh(const std::string& path, int dim)
     const GmshType& t = *raw.etype[r];
     if (t.dim != body) continue;
     ElemType et;
-    if (t.type == 4)
-      et = ElemType::Tet4;
-    else if (t.type == 2)
-      et = ElemType::Tri3;
-    else if (t.type == 3)
-      et = ElemType::Quad4;
-    else
+    if (!elem_type_of_gmsh(t.type, et))
       throw fail_at(raw.eline[r], "element type " + type_label(t) + " is not supported for a " +
                                       std::to_string(body) + "D body; supported: " +
                                       (body == 3 ? "4 (tet4)" : "2 (tri3), 3 (quad4)") +
@@ -757,17 +768,6 @@ Mesh read_gmsh(const std::string& path, int dim)
 void write_gmsh22(const Mesh& mesh, const std::string& path)
 {
   const int ne = mesh.num_elems(), nn = mesh.num_nodes();
-  auto gmsh_type = [](ElemType t) {
-    switch (t) {
-    case ElemType::Tri3:
-      return 2;
-    case ElemType::Quad4:
-      return 3;
-    case ElemType::Tet4:
-      return 4;
-    }
-    return 0;
-  };
   int max_region = 0;
   for (int r : mesh.region)
     max_region = std::max(max_region, r);
@@ -842,7 +842,7 @@ void write_gmsh22(const Mesh& mesh, const std::string& path)
   long tag = 0;
   auto write_elem = [&](int e, int phys) {
     const auto& c = mesh.conn[e];
-    std::fprintf(f, "%ld %d 2 %d %d", ++tag, gmsh_type(mesh.etype[e]), phys,
+    std::fprintf(f, "%ld %d 2 %d %d", ++tag, kGmshTypeOf[static_cast<int>(mesh.etype[e])], phys,
                  std::max(region_of(e), 1));
     for (int k = 0; k < nodes_per_elem(mesh.etype[e]); ++k)
       std::fprintf(f, " %d", c[k] + 1);
