@@ -1,6 +1,7 @@
 // Micro-benchmark of the interaction kernels that make up a particle's work.
 #include "balance/cost_calibration.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -71,17 +72,20 @@ __attribute__((noinline)) double contact_law(const ContactMaterial& mat, const d
 }
 
 // Seconds per item of `sweep(items)`, repeated for `budget` seconds.
+// The fastest of the sweeps that fit in the budget: a sweep that the OS interrupted (another
+// process, a timer) would otherwise inflate the mean, and the costs are differences of means.
 template <typename Sweep> double seconds_per_item(Sweep sweep, long items, double budget)
 {
   const auto start = Clock::now();
-  long done = 0;
-  double elapsed = 0;
-  while (elapsed < budget || done == 0) {
+  double elapsed = 0, fastest = HUGE_VAL;
+  while (elapsed < budget || fastest == HUGE_VAL) {
+    const auto t0 = Clock::now();
     sweep();
-    done += items;
-    elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    const auto t1 = Clock::now();
+    fastest = std::min(fastest, std::chrono::duration<double>(t1 - t0).count());
+    elapsed = std::chrono::duration<double>(t1 - start).count();
   }
-  return elapsed / static_cast<double>(done);
+  return fastest / static_cast<double>(items);
 }
 
 } // namespace
