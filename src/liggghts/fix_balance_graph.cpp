@@ -539,23 +539,28 @@ void FixBalanceGraph::repartition(const LocalCosts& lc)
   std::string failure;
   if (me == 0) {
     const std::int64_t n = vtotal / 2;
-    std::unordered_map<std::int64_t, std::int64_t> vertex_of_tag;
-    vertex_of_tag.reserve(2 * n);
     std::vector<std::int64_t> vwgt(n);
     std::vector<int> old_owner(n);
     for (int p = 0; p < nprocs; ++p)
       for (int k = vdisp[p] / 2; k < (vdisp[p] + vcount[p]) / 2; ++k)
         old_owner[k] = p;
+    // Tags are positive and at most a few times the atom count: a dense index, no hashing.
+    std::int64_t max_tag = 0;
+    for (std::int64_t v = 0; v < n; ++v)
+      max_tag = std::max(max_tag, all_verts[2 * v]);
+    std::vector<std::int64_t> vertex_of_tag(max_tag + 1, -1);
     for (std::int64_t v = 0; v < n; ++v) {
       vertex_of_tag[all_verts[2 * v]] = v;
       vwgt[v] = all_verts[2 * v + 1];
     }
+    const auto vertex = [&](std::int64_t tag) {
+      return tag >= 0 && tag <= max_tag ? vertex_of_tag[tag] : std::int64_t{-1};
+    };
     std::vector<fracdem::balance::WeightedPair> pairs;
     pairs.reserve(etotal / 3);
     for (int e = 0; e + 2 < etotal; e += 3) {
-      auto a = vertex_of_tag.find(all_edges[e]), b = vertex_of_tag.find(all_edges[e + 1]);
-      if (a == vertex_of_tag.end() || b == vertex_of_tag.end()) continue;
-      pairs.push_back({a->second, b->second, all_edges[e + 2]});
+      const std::int64_t a = vertex(all_edges[e]), b = vertex(all_edges[e + 1]);
+      if (a >= 0 && b >= 0) pairs.push_back({a, b, all_edges[e + 2]});
     }
     try {
       const fracdem::balance::Graph g = fracdem::balance::build_graph(n, vwgt, pairs);
@@ -672,27 +677,27 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
   if (me == 0) {
     namespace fb = fracdem::balance;
     // Occupied cells; a cell shared by several ranks starts with the one holding most of it.
-    std::unordered_map<std::int64_t, std::int64_t> vertex_of_cell;
+    // Dense cell index (the owner table broadcast below has one entry per cell anyway).
+    std::vector<std::int64_t> vertex_of_cell(ncells, -1);
     std::vector<std::int64_t> cells, vwgt, best_share;
     std::vector<int> old_owner;
     for (int p = 0; p < nprocs; ++p)
       for (int k = vdisp[p]; k < vdisp[p] + vcount[p]; k += 2) {
         const std::int64_t cell = all_verts[k], w = all_verts[k + 1];
-        auto it = vertex_of_cell.find(cell);
-        if (it == vertex_of_cell.end()) {
+        const std::int64_t v = vertex_of_cell[cell];
+        if (v < 0) {
           vertex_of_cell[cell] = static_cast<std::int64_t>(cells.size());
           cells.push_back(cell), vwgt.push_back(w), best_share.push_back(w), old_owner.push_back(p);
         } else {
-          vwgt[it->second] += w;
-          if (w > best_share[it->second]) best_share[it->second] = w, old_owner[it->second] = p;
+          vwgt[v] += w;
+          if (w > best_share[v]) best_share[v] = w, old_owner[v] = p;
         }
       }
     const std::int64_t n = static_cast<std::int64_t>(cells.size());
     std::vector<fb::WeightedPair> pairs;
     for (int e = 0; e + 2 < etotal; e += 3) {
-      auto a = vertex_of_cell.find(all_edges[e]), b = vertex_of_cell.find(all_edges[e + 1]);
-      if (a == vertex_of_cell.end() || b == vertex_of_cell.end()) continue; // ghost-only cell
-      pairs.push_back({a->second, b->second, all_edges[e + 2]});
+      const std::int64_t a = vertex_of_cell[all_edges[e]], b = vertex_of_cell[all_edges[e + 1]];
+      if (a >= 0 && b >= 0) pairs.push_back({a, b, all_edges[e + 2]}); // not a ghost-only cell
     }
     // Unit edges between touching occupied cells keep parts compact where particles have no
     // neighbours yet (free fall, dilute inflow): few ghosts, and no scattered parts.
@@ -711,8 +716,8 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
                 m[d] = (m[d] + grid_.n[d]) % grid_.n[d];
               }
             if (!ok) continue;
-            auto it = vertex_of_cell.find(grid_.id(m[0], m[1], m[2]));
-            if (it != vertex_of_cell.end() && it->second > v) pairs.push_back({v, it->second, 1});
+            const std::int64_t u = vertex_of_cell[grid_.id(m[0], m[1], m[2])];
+            if (u > v) pairs.push_back({v, u, 1});
           }
     }
     try {

@@ -26,12 +26,16 @@ def worst_rel(a, b, names):
     return worst
 
 
-# Two configurations: the a posteriori model with plain counts, and the a priori model with
-# calibrated costs while fix insert/rate/region keeps inserting into the stock bricks.
+# Configurations: the a posteriori model with plain counts, the a priori model with calibrated
+# costs while fix insert/rate/region keeps inserting into the stock bricks (ghosts covering the
+# whole bricks, or only the named insertion region), and one graph vertex per particle (cells 0:
+# particles stay on their rank between repartitions) instead of cells.
 CONFIGS = [("aposteriori", dict(model="aposteriori", cost="counts", insert=0)),
            ("apriori+insert", dict(model="apriori", cost="calibrated", insert=1)),
            ("insert+region cover", dict(model="aposteriori", cost="counts", insert=1,
-                                        cover="insert_region ins"))]
+                                        cover="insert_region ins")),
+           ("particle vertices", dict(model="aposteriori", cost="counts", insert=0,
+                                      cover="cells 0"))]
 for np_ in (2, 3):
     for name, cfg in CONFIGS:
         stock, _, _ = run(np_, f"stock_{cfg['model']}", balance=0, insert=cfg["insert"])

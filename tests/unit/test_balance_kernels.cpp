@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <random>
 #include <set>
@@ -58,6 +59,33 @@ TEST(BalanceKernels, BuildGraphMergesSymmetrisesAndDropsSelfLoops)
   const Graph lonely = build_graph(2, {3, 4}, {{1, 1, 9}});
   EXPECT_EQ(lonely.num_edges(), 0);
   EXPECT_EQ(lonely.xadj, (std::vector<int64_t>{0, 0, 0}));
+}
+
+// Random pairs with many repeats in both directions against an ordered-map reference: each row
+// holds every neighbour once, with the sum of the weights of all its copies.
+TEST(BalanceKernels, BuildGraphMatchesMapReferenceOnRandomPairs)
+{
+  std::mt19937 rng(11);
+  const int64_t n = 60;
+  std::uniform_int_distribution<int64_t> vertex(0, n - 1), weight(-2, 9);
+  std::vector<WeightedPair> pairs;
+  std::map<std::pair<int64_t, int64_t>, int64_t> expected;
+  for (int k = 0; k < 2000; ++k) {
+    const WeightedPair p{vertex(rng), vertex(rng), weight(rng)};
+    pairs.push_back(p);
+    if (p.i == p.j) continue;
+    const int64_t w = std::max<int64_t>(1, p.w);
+    expected[{p.i, p.j}] += w;
+    expected[{p.j, p.i}] += w;
+  }
+  const Graph g = build_graph(n, std::vector<int64_t>(n, 1), pairs);
+  std::map<std::pair<int64_t, int64_t>, int64_t> got;
+  for (int64_t v = 0; v < n; ++v)
+    for (int64_t k = g.xadj[v]; k < g.xadj[v + 1]; ++k) {
+      const bool fresh = got.emplace(std::make_pair(v, g.adjncy[k]), g.adjwgt[k]).second;
+      EXPECT_TRUE(fresh) << "neighbour " << g.adjncy[k] << " twice in row " << v;
+    }
+  EXPECT_EQ(got, expected);
 }
 
 TEST(BalanceKernels, ImbalanceAnalytic)

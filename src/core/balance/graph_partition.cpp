@@ -18,39 +18,46 @@ Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
 {
   if (n < 0 || static_cast<int64_t>(vertex_weight.size()) != n)
     throw std::invalid_argument("build_graph: vertex_weight must have one entry per vertex");
-  // Both directions of every pair, sorted, then merged: duplicates from either direction sum.
-  std::vector<WeightedPair> dir;
-  dir.reserve(2 * pairs.size());
-  for (const WeightedPair& p : pairs) {
+  for (const WeightedPair& p : pairs)
     if (p.i < 0 || p.i >= n || p.j < 0 || p.j >= n)
       throw std::invalid_argument("build_graph: pair (" + std::to_string(p.i) + "," +
                                   std::to_string(p.j) + ") out of range");
+  // Both directions of every pair bucketed by source vertex (a counting sort: O(pairs), where a
+  // comparison sort of all directed pairs dominated the repartition); duplicates within a row are
+  // merged by summing their weights, neighbours kept in order of first appearance.
+  std::vector<int64_t> start(n + 1, 0);
+  for (const WeightedPair& p : pairs)
+    if (p.i != p.j) ++start[p.i + 1], ++start[p.j + 1];
+  for (int64_t v = 0; v < n; ++v)
+    start[v + 1] += start[v];
+  std::vector<std::pair<int64_t, int64_t>> row_entries(start[n]); // (neighbour, weight)
+  std::vector<int64_t> fill(start.begin(), start.end() - 1);
+  for (const WeightedPair& p : pairs) {
     if (p.i == p.j) continue;
     const int64_t w = std::max<int64_t>(1, p.w);
-    dir.push_back({p.i, p.j, w});
-    dir.push_back({p.j, p.i, w});
+    row_entries[fill[p.i]++] = {p.j, w};
+    row_entries[fill[p.j]++] = {p.i, w};
   }
-  std::sort(dir.begin(), dir.end(), [](const WeightedPair& a, const WeightedPair& b) {
-    return a.i != b.i ? a.i < b.i : a.j < b.j;
-  });
   Graph g;
   g.xadj.assign(n + 1, 0);
-  g.adjncy.reserve(dir.size());
-  g.adjwgt.reserve(dir.size());
+  g.adjncy.reserve(row_entries.size());
+  g.adjwgt.reserve(row_entries.size());
   g.vwgt.resize(n);
-  for (int64_t v = 0; v < n; ++v)
+  std::vector<int64_t> slot_row(n, -1), slot(n); // where neighbour u sits in the current row
+  for (int64_t v = 0; v < n; ++v) {
     g.vwgt[v] = std::max<int64_t>(1, vertex_weight[v]);
-  for (size_t k = 0; k < dir.size(); ++k) {
-    if (k > 0 && dir[k].i == dir[k - 1].i && dir[k].j == dir[k - 1].j) {
-      g.adjwgt.back() += dir[k].w;
-      continue;
+    for (int64_t k = start[v]; k < start[v + 1]; ++k) {
+      const auto [u, w] = row_entries[k];
+      if (slot_row[u] == v) {
+        g.adjwgt[slot[u]] += w;
+        continue;
+      }
+      slot_row[u] = v, slot[u] = static_cast<int64_t>(g.adjncy.size());
+      g.adjncy.push_back(u);
+      g.adjwgt.push_back(w);
     }
-    g.adjncy.push_back(dir[k].j);
-    g.adjwgt.push_back(dir[k].w);
-    ++g.xadj[dir[k].i + 1];
+    g.xadj[v + 1] = static_cast<int64_t>(g.adjncy.size());
   }
-  for (int64_t v = 0; v < n; ++v)
-    g.xadj[v + 1] += g.xadj[v];
   return g;
 }
 
