@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBS=(liggghts libliggghts-dev openmpi-bin libopenmpi-dev libmetis-dev libvtk9-dev
+DEBS=(liggghts libliggghts-dev openmpi-bin libopenmpi-dev libmetis-dev libscotch-dev libvtk9-dev
       libgtest-dev cmake g++ make python3-vtk9)
 [ "${1:-}" = "--bench" ] && DEBS+=(lammps)
 missing=()

@@ -12,6 +12,7 @@
 
 #include "atom.h"
 #include "balance/graph_partition.h"
+#include "balance/scotch_partition.h"
 #include "comm.h"
 #include "comm_graph.h"
 #include "domain.h"
@@ -43,7 +44,8 @@ const KeywordEntry<FixBalanceGraph::GraphModel> kGraphModels[] = {
 const KeywordEntry<FixBalanceGraph::CostModel> kCostModels[] = {
     {"counts", FixBalanceGraph::CostModel::Counts},
     {"calibrated", FixBalanceGraph::CostModel::Calibrated},
-    {"timed", FixBalanceGraph::CostModel::Timed}};
+    {"timed", FixBalanceGraph::CostModel::Timed},
+    {"fitted", FixBalanceGraph::CostModel::Fitted}};
 const KeywordEntry<FixBalanceGraph::Strategy> kStrategies[] = {
     {"auto", FixBalanceGraph::Strategy::Auto},
     {"refine", FixBalanceGraph::Strategy::Refine},
@@ -65,17 +67,9 @@ bool lookup(const KeywordEntry<T> (&table)[N], const std::string& value, T& out,
   return false;
 }
 
-// Partitioners this build offers; Scotch is named so that asking for it gives a clear answer.
-struct PartitionerEntry {
-  const char* name;
-  bool available;
-  const char* why_not;
-};
-const PartitionerEntry kPartitioners[] = {
-    {"metis", true, ""},
-    {"scotch", false,
-     "this build has no Scotch (SCOTCH_graphRepart); use 'partitioner metis', which relabels the "
-     "new parts to keep most particles on their current rank"}};
+const KeywordEntry<FixBalanceGraph::Partitioner> kPartitioners[] = {
+    {"metis", FixBalanceGraph::Partitioner::Metis},
+    {"scotch", FixBalanceGraph::Partitioner::Scotch}};
 
 double thread_cpu_seconds()
 {
@@ -89,7 +83,15 @@ constexpr double kMetisImbalanceTolerance = 1.02;
 // and partitions from scratch above it (diffusion from a far-off start degrades part shapes).
 constexpr double kRefineBelow = 1.5;
 constexpr int kRefinePasses = 64;
+// partitioner scotch: cost of moving one unit of vertex weight against cutting one unit of edge
+// weight. A particle of average cost weighs kWeightResolution and a contact edge a few units, so
+// moving a particle costs about as much as cutting the edges of a few neighbours.
+constexpr double kScotchMigrationCost = 0.1;
 constexpr double kWeightResolution = 100.0; // integer vertex weight of a particle of average cost
+// cost fitted: samples of this many checks enter the fit (older ones are dropped: the costs drift
+// as the scene changes), shrunk towards the calibrated ratios with this strength.
+constexpr int kFitWindowChecks = 8;
+constexpr double kFitShrink = 0.05;
 
 } // namespace
 
@@ -126,11 +128,10 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
       if (!lookup(kCostModels, val, cost_model_, expected))
         fail("keyword 'cost': expected " + expected + ", got '" + val + "'");
     } else if (key == "partitioner") {
-      const PartitionerEntry* p = nullptr;
-      for (const auto& e : kPartitioners)
-        if (val == e.name) p = &e;
-      if (!p) fail("keyword 'partitioner': expected metis or scotch, got '" + val + "'");
-      if (!p->available) fail("keyword 'partitioner " + val + "': " + p->why_not);
+      if (!lookup(kPartitioners, val, partitioner_, expected))
+        fail("keyword 'partitioner': expected " + expected + ", got '" + val + "'");
+      if (partitioner_ == Partitioner::Scotch && !fracdem::balance::scotch_available())
+        fail("keyword 'partitioner scotch': this build has no Scotch; use 'partitioner metis'");
     } else if (key == "repartition") {
       if (!lookup(kStrategies, val, strategy_, expected))
         fail("keyword 'repartition': expected " + expected + ", got '" + val + "'");
@@ -160,6 +161,11 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
     }
   }
 
+  if (partitioner_ == Partitioner::Scotch &&
+      std::find(seen.begin(), seen.end(), "repartition") != seen.end())
+    fail("keyword 'repartition' chooses how METIS is used; with 'partitioner scotch' each "
+         "repartition is one SCOTCH_graphRepart call (drop 'repartition')");
+
   scalar_flag = 1;
   vector_flag = 1;
   size_vector = 10;
@@ -175,28 +181,24 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
 
   // Calibrated costs are measured once on rank 0 and shared, so every rank weighs alike.
   costs_ = fracdem::balance::unit_costs();
-  if (cost_model_ == CostModel::Calibrated || cost_model_ == CostModel::Timed) {
-    double c[7] = {0, 0, 0, 0, 0, 0, 0};
-    if (comm->me == 0) {
-      const auto m = fracdem::balance::calibrate_costs();
-      c[0] = m.pair_check, c[1] = m.sphere_contact, c[2] = m.wall_contact, c[3] = m.facet_check,
-      c[4] = m.facet_contact, c[5] = m.particle, c[6] = m.wall_check;
-    }
-    MPI_Bcast(c, 7, MPI_DOUBLE, 0, world);
-    costs_.pair_check = c[0], costs_.sphere_contact = c[1], costs_.wall_contact = c[2];
-    costs_.facet_check = c[3], costs_.facet_contact = c[4], costs_.particle = c[5];
-    costs_.wall_check = c[6];
+  if (cost_model_ != CostModel::Counts) {
+    fracdem::balance::TermCounts c{};
+    if (comm->me == 0) c = fracdem::balance::cost_array(fracdem::balance::calibrate_costs());
+    MPI_Bcast(c.data(), fracdem::balance::kCostTerms, MPI_DOUBLE, 0, world);
+    costs_ = fracdem::balance::interaction_costs(c);
     if (comm->me == 0) {
       char line[400];
       snprintf(line, sizeof line,
                "fix balance/graph: calibrated costs relative to a pair check: particle %.2f, "
                "sphere contact %.2f, wall check %.2f, wall contact %.2f, facet check %.2f, "
                "facet contact %.2f\n",
-               c[5], c[1], c[6], c[2], c[3], c[4]);
+               costs_.particle, costs_.sphere_contact, costs_.wall_check, costs_.wall_contact,
+               costs_.facet_check, costs_.facet_contact);
       if (screen) fputs(line, screen);
       if (logfile) fputs(line, logfile);
     }
   }
+  calibrated_ = costs_;
 }
 
 FixBalanceGraph::~FixBalanceGraph()
@@ -307,6 +309,7 @@ void FixBalanceGraph::setup_pre_exchange()
 {
   const bigint regular = next_regular_check();
   start_check_ = comm->nprocs > 1 && !comm_graph_->graph_ownership();
+  if (last_check_step_ < 0) last_check_step_ = update->ntimestep;
   next_reneighbor = start_check_ ? std::min<bigint>(update->ntimestep + 1, regular) : regular;
 }
 
@@ -318,7 +321,12 @@ void FixBalanceGraph::pre_exchange()
   next_reneighbor = next_regular_check();
 
   LocalCosts lc;
-  measure(lc, cost_model_ == CostModel::Timed && !start_check);
+  measure(lc);
+  const bigint previous_check = last_check_step_;
+  last_check_step_ = update->ntimestep;
+  // Nothing is timed before the start check: it runs on the model costs.
+  if (cost_model_ == CostModel::Timed && !start_check) scale_to_measured(lc);
+  if (cost_model_ == CostModel::Fitted && !start_check) fit_to_measured(lc, previous_check);
   double sum = 0, max = 0;
   MPI_Allreduce(&lc.total, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&lc.total, &max, 1, MPI_DOUBLE, MPI_MAX, world);
@@ -367,11 +375,14 @@ void FixBalanceGraph::pre_exchange()
   }
 }
 
-void FixBalanceGraph::measure(LocalCosts& lc, bool use_timing)
+void FixBalanceGraph::measure(LocalCosts& lc)
 {
   const int nlocal = atom->nlocal;
-  lc.cost.assign(nlocal, 0.0);
   lc.potential.assign(nlocal, 0);
+  lc.contacts.assign(nlocal, 0);
+  lc.wall_contacts.assign(nlocal, 0);
+  lc.facet_checks.assign(nlocal, 0);
+  lc.facet_contacts.assign(nlocal, 0);
   lc.edges.clear();
   double** x = atom->x;
   const double* radius = atom->radius;
@@ -379,8 +390,12 @@ void FixBalanceGraph::measure(LocalCosts& lc, bool use_timing)
   const bool aposteriori = graph_model_ == GraphModel::APosteriori;
   // With newton off a pair that straddles two ranks is in both ranks' lists; keep one copy.
   const bool newton = force->newton_pair != 0;
+  // (A fitted pair-check cost may be zero: the ratio is then taken as 1.)
   const std::int64_t contact_edge_weight =
-      std::max<std::int64_t>(1, std::llround(costs_.sphere_contact / costs_.pair_check));
+      costs_.pair_check > 0
+          ? std::max<std::int64_t>(
+                1, std::llround(std::min(1e6, costs_.sphere_contact / costs_.pair_check)))
+          : 1;
   const bool by_cell = cell_factor_ > 0;
   if (by_cell) {
     const bool periodic[3] = {domain->periodicity[0] != 0, domain->periodicity[1] != 0,
@@ -407,7 +422,7 @@ void FixBalanceGraph::measure(LocalCosts& lc, bool use_timing)
         const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
         const double rs = radius[i] + radius[j];
         const bool touching = dx * dx + dy * dy + dz * dz < rs * rs;
-        lc.cost[i] += costs_.pair_check + (touching ? costs_.sphere_contact : 0.0);
+        lc.contacts[i] += touching;
         if (!newton && j >= nlocal && tag[i] > tag[j]) continue;
         const std::int64_t w = (aposteriori && touching) ? 1 + contact_edge_weight : 1;
         if (by_cell) {
@@ -424,19 +439,13 @@ void FixBalanceGraph::measure(LocalCosts& lc, bool use_timing)
     }
   }
 
-  // Every particle costs something on its own (list traversal, binning, integration).
-  for (int i = 0; i < nlocal; ++i)
-    lc.cost[i] += costs_.particle;
-
   // Primitive walls of fix wall/gran (their work runs outside Pair time): a gap test for every
   // particle, and the contact law for those touching.
   for (FixWallGran* w : primitive_walls_) {
     PrimitiveWall* pw = w->primitiveWall();
     double delta[3];
-    for (int i = 0; i < nlocal; ++i) {
-      lc.cost[i] += costs_.wall_check;
-      if (pw->resolveContact(x[i], radius[i], delta) <= 0.0) lc.cost[i] += costs_.wall_contact;
-    }
+    for (int i = 0; i < nlocal; ++i)
+      if (pw->resolveContact(x[i], radius[i], delta) <= 0.0) lc.wall_contacts[i] += 1;
   }
 
   // Facet checks and contacts of deformable or rigid FE bodies.
@@ -445,23 +454,84 @@ void FixBalanceGraph::measure(LocalCosts& lc, bool use_timing)
     const auto& contacts = b->facet_contacts();
     if (static_cast<int>(checks.size()) != nlocal) continue; // no contact evaluated yet
     for (int i = 0; i < nlocal; ++i)
-      lc.cost[i] += checks[i] * costs_.facet_check + contacts[i] * costs_.facet_contact;
+      lc.facet_checks[i] += checks[i], lc.facet_contacts[i] += contacts[i];
   }
 
+  namespace fb = fracdem::balance;
+  lc.term_sums.fill(0.0);
+  const double walls = static_cast<double>(primitive_walls_.size());
+  for (int i = 0; i < nlocal; ++i) {
+    lc.term_sums[fb::kPairCheck] += lc.potential[i];
+    lc.term_sums[fb::kSphereContact] += lc.contacts[i];
+    lc.term_sums[fb::kWallContact] += lc.wall_contacts[i];
+    lc.term_sums[fb::kFacetCheck] += lc.facet_checks[i];
+    lc.term_sums[fb::kFacetContact] += lc.facet_contacts[i];
+  }
+  lc.term_sums[fb::kParticle] = nlocal;
+  lc.term_sums[fb::kWallCheck] = walls * nlocal;
+  lc.term_sums[fb::kGhost] = atom->nghost;
+  price(lc);
+}
+
+// Work model per particle (paper section 5.1): every particle costs something on its own (list
+// traversal, binning, integration), plus each of its checks and contacts.
+void FixBalanceGraph::price(LocalCosts& lc) const
+{
+  const int nlocal = atom->nlocal;
+  const double own = costs_.particle + primitive_walls_.size() * costs_.wall_check;
+  lc.cost.resize(nlocal);
   lc.total = 0;
-  for (double c : lc.cost)
-    lc.total += c;
-
-  // Measured time replaces the modelled total; the model only splits it among particles.
-  if (use_timing) {
-    const double spent = cpu_work_;
-    if (lc.total > 0 && spent > 0) {
-      const double scale = spent / lc.total;
-      for (double& c : lc.cost)
-        c *= scale;
-      lc.total = spent;
-    }
+  for (int i = 0; i < nlocal; ++i) {
+    lc.cost[i] =
+        own + lc.potential[i] * costs_.pair_check + lc.contacts[i] * costs_.sphere_contact +
+        lc.wall_contacts[i] * costs_.wall_contact + lc.facet_checks[i] * costs_.facet_check +
+        lc.facet_contacts[i] * costs_.facet_contact;
+    lc.total += lc.cost[i];
   }
+}
+
+// The model only splits this rank's measured time among its particles.
+void FixBalanceGraph::scale_to_measured(LocalCosts& lc) const
+{
+  const double spent = cpu_work_;
+  if (lc.total > 0 && spent > 0) {
+    const double scale = spent / lc.total;
+    for (double& c : lc.cost)
+      c *= scale;
+    lc.total = spent;
+  }
+}
+
+// One set of costs for all ranks, fitted to every rank's measured time: unlike `timed`, whose
+// per-rank factor stays behind when particles move to another rank, fitted costs travel with the
+// particles. The trigger still compares measured times.
+void FixBalanceGraph::fit_to_measured(LocalCosts& lc, bigint previous_check)
+{
+  namespace fb = fracdem::balance;
+  const int nprocs = comm->nprocs;
+  double mine[fb::kCostTerms + 1];
+  std::copy(lc.term_sums.begin(), lc.term_sums.end(), mine);
+  mine[fb::kCostTerms] = cpu_work_;
+  // Time per step, so that the costs are per item and step whatever the interval.
+  const double interval_steps = std::max<double>(1.0, update->ntimestep - previous_check);
+  std::vector<double> all((fb::kCostTerms + 1) * nprocs);
+  MPI_Allgather(mine, fb::kCostTerms + 1, MPI_DOUBLE, all.data(), fb::kCostTerms + 1, MPI_DOUBLE,
+                world);
+  for (int p = 0; p < nprocs; ++p) {
+    fb::CostSample sample;
+    std::copy(&all[p * (fb::kCostTerms + 1)], &all[p * (fb::kCostTerms + 1)] + fb::kCostTerms,
+              sample.counts.begin());
+    sample.seconds = all[p * (fb::kCostTerms + 1) + fb::kCostTerms] / interval_steps;
+    fit_samples_.push_back(sample);
+  }
+  const size_t keep = static_cast<size_t>(kFitWindowChecks) * nprocs;
+  if (fit_samples_.size() > keep)
+    fit_samples_.erase(fit_samples_.begin(), fit_samples_.end() - keep);
+  // Every rank fits the same samples in the same order: identical costs everywhere.
+  costs_ =
+      fb::interaction_costs(fb::fit_costs(fit_samples_, fb::cost_array(calibrated_), kFitShrink));
+  price(lc);
+  if (cpu_work_ > 0) lc.total = cpu_work_;
 }
 
 FixBalanceGraph::GatheredGraph
@@ -498,7 +568,13 @@ std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Grap
   const double current = fb::imbalance(fb::part_loads(load, old_owner, nprocs));
   std::vector<int> part;
   bool refined = false;
-  if (strategy_ == Strategy::Refine || (strategy_ == Strategy::Auto && current < kRefineBelow)) {
+  if (partitioner_ == Partitioner::Scotch) {
+    // One call does both: a balanced partition that weighs edge cut against migration.
+    part = fb::repartition_scotch(g, old_owner, nprocs, kScotchMigrationCost,
+                                  kMetisImbalanceTolerance);
+    refined = true;
+  } else if (strategy_ == Strategy::Refine ||
+             (strategy_ == Strategy::Auto && current < kRefineBelow)) {
     part = old_owner;
     refined = fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <=
               kRefinePasses;
@@ -635,6 +711,19 @@ void FixBalanceGraph::record_repartition(const double stats[2], double migrated)
              cell_factor_ > 0 ? " cell" : " particle", stats[0], migrated, stats[1]);
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
+    if (cost_model_ == CostModel::Fitted && !fit_samples_.empty() && costs_.pair_check > 0) {
+      const double unit = costs_.pair_check;
+      snprintf(
+          line, sizeof line,
+          "fix balance/graph: fitted costs relative to a pair check (%.3g ns per step): particle "
+          "%.2f, sphere contact %.2f, wall check %.2f, wall contact %.2f, facet check %.2f, "
+          "facet contact %.2f\n",
+          1e9 * unit, costs_.particle / unit, costs_.sphere_contact / unit,
+          costs_.wall_check / unit, costs_.wall_contact / unit, costs_.facet_check / unit,
+          costs_.facet_contact / unit);
+      if (screen) fputs(line, screen);
+      if (logfile) fputs(line, logfile);
+    }
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include "balance/cell_grid.h"
 #include "balance/cost_calibration.h"
+#include "balance/cost_fit.h"
 #include "balance/graph_partition.h"
 #include "fix.h"
 
@@ -37,16 +38,20 @@ public:
   void restart(char*) override;
 
   enum class GraphModel { APriori, APosteriori };
-  enum class CostModel { Counts, Calibrated, Timed };
+  enum class CostModel { Counts, Calibrated, Timed, Fitted };
   enum class Strategy { Auto, Refine, Scratch };
+  enum class Partitioner { Metis, Scotch };
 
 private:
   // What one check measured on this rank, per local particle and in total.
   struct LocalCosts {
     std::vector<double> cost;            // work model per particle
     std::vector<std::int64_t> potential; // potential targets per particle
-    std::vector<std::int64_t> edges;     // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
-    std::vector<std::int64_t> cell;      // cell of each particle (cell graph only)
+    // Further per-particle counts of the work model's terms (pair checks are `potential`).
+    std::vector<int> contacts, wall_contacts, facet_checks, facet_contacts;
+    fracdem::balance::TermCounts term_sums{}; // this rank's total of each term
+    std::vector<std::int64_t> edges;          // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
+    std::vector<std::int64_t> cell;           // cell of each particle (cell graph only)
     double total = 0;
     double sum_all = 0; // total over all ranks (set by the check)
   };
@@ -56,10 +61,14 @@ private:
   GraphModel graph_model_ = GraphModel::APosteriori;
   CostModel cost_model_ = CostModel::Timed;
   Strategy strategy_ = Strategy::Auto;
+  Partitioner partitioner_ = Partitioner::Metis;
   std::vector<std::string> insert_regions_; // limit the insertion ghost cover to these
   double cell_factor_ = 2.0; // cell edge in ghost cutoffs; 0 = one vertex per particle
   fracdem::balance::CellGrid grid_;
   fracdem::balance::InteractionCosts costs_;
+  fracdem::balance::InteractionCosts calibrated_; // the start-up costs (prior of cost fitted)
+  // cost fitted: the samples (one per rank and check) of the last few checks, oldest first.
+  std::vector<fracdem::balance::CostSample> fit_samples_;
   FILE* out_ = nullptr;
   class CommGraph* comm_graph_ = nullptr;
   std::vector<class FixWallGran*> primitive_walls_;
@@ -68,7 +77,8 @@ private:
   // defined before this one: walls, FE contact) since the last check; the measured work.
   double cpu_work_ = 0, cpu_start_ = 0;
   bool cpu_from_neighbor_ = false;
-  bool start_check_ = false; // the next check is the one at the first step of the first run
+  bool start_check_ = false;    // the next check is the one at the first step of the first run
+  bigint last_check_step_ = -1; // step of the last check (cpu_work_ counts from there)
 
   // Outputs (see docs/fix_balance_graph.md).
   double imbalance_ = 1.0, imbalance_before_ = 1.0, imbalance_predicted_ = 1.0;
@@ -78,8 +88,13 @@ private:
   std::vector<double> owner_rank_; // per-atom output: the rank that owns the particle
 
   bigint next_regular_check() const;
-  // use_timing: replace the modelled rank total by the measured CPU time (cost timed).
-  void measure(LocalCosts& lc, bool use_timing);
+  // Counts every term of the work model per local particle and prices them with costs_.
+  void measure(LocalCosts& lc);
+  void price(LocalCosts& lc) const;
+  // cost timed: the measured CPU time replaces the modelled rank total.
+  void scale_to_measured(LocalCosts& lc) const;
+  // cost fitted: refits costs_ to the measured time of every rank over the last checks.
+  void fit_to_measured(LocalCosts& lc, bigint previous_check);
   void repartition(const LocalCosts& lc);
   void repartition_cells(const LocalCosts& lc);
   void record_repartition(const double stats[2], double migrated);

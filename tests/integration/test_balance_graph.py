@@ -28,14 +28,17 @@ def worst_rel(a, b, names):
 
 # Configurations: the a posteriori model with plain counts, the a priori model with calibrated
 # costs while fix insert/rate/region keeps inserting into the stock bricks (ghosts covering the
-# whole bricks, or only the named insertion region), and one graph vertex per particle (cells 0:
-# particles stay on their rank between repartitions) instead of cells.
+# whole bricks, or only the named insertion region), one graph vertex per particle (cells 0:
+# particles stay on their rank between repartitions) instead of cells, and Scotch's
+# SCOTCH_graphRepart with the cost model fitted to the measured time.
 CONFIGS = [("aposteriori", dict(model="aposteriori", cost="counts", insert=0)),
            ("apriori+insert", dict(model="apriori", cost="calibrated", insert=1)),
            ("insert+region cover", dict(model="aposteriori", cost="counts", insert=1,
                                         cover="insert_region ins")),
            ("particle vertices", dict(model="aposteriori", cost="counts", insert=0,
-                                      cover="cells 0"))]
+                                      cover="cells 0")),
+           ("scotch fitted", dict(model="aposteriori", cost="fitted", insert=0,
+                                  cover="partitioner scotch"))]
 for np_ in (2, 3):
     for name, cfg in CONFIGS:
         stock, _, _ = run(np_, f"stock_{cfg['model']}", balance=0, insert=cfg["insert"])
@@ -60,7 +63,7 @@ for np_ in (2, 3):
                 f"np={np_} {name}: the run starts balanced (first check at step 1, "
                 f"repartitioned: {csv['repartitioned'][0]:.0f})")
         h.check(csv["predicted_imbalance"][0] < 1.1,
-                f"np={np_} {name}: METIS partition balances the work model "
+                f"np={np_} {name}: the partitioner balances the work model "
                 f"(predicted B = {csv['predicted_imbalance'][0]:.3f})")
         # The a posteriori graph is weighted by the very cost that is measured, so the next check
         # must see it balanced; the a priori graph balances neighbour counts only (no such claim).
