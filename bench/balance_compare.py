@@ -35,6 +35,9 @@ FRACDEM_METHODS = {  # name -> variables of in.settle_fracdem
     "graph a posteriori counts": dict(thresh=1.05, model="aposteriori", cost="counts"),
     "graph a posteriori calibrated": dict(thresh=1.05, model="aposteriori", cost="calibrated"),
     "graph a posteriori timed": dict(thresh=1.05, model="aposteriori", cost="timed"),
+    "graph a posteriori fitted": dict(thresh=1.05, model="aposteriori", cost="fitted"),
+    "graph a posteriori timed scotch": dict(thresh=1.05, model="aposteriori", cost="timed",
+                                            partitioner="scotch"),
 }
 LAMMPS_METHODS = {  # name -> balance variable of in.settle_lammps
     "LAMMPS slabs": "none",
