@@ -530,7 +530,11 @@ void FixBalanceGraph::fit_to_measured(LocalCosts& lc, bigint previous_check)
   // Every rank fits the same samples in the same order: identical costs everywhere.
   costs_ =
       fb::interaction_costs(fb::fit_costs(fit_samples_, fb::cost_array(calibrated_), kFitShrink));
+  // The costs are per step; the check compares (and the vertex weights are scaled by) the
+  // measured time of the whole interval, so the particle costs must be per interval too.
   price(lc);
+  for (double& c : lc.cost)
+    c *= interval_steps;
   if (cpu_work_ > 0) lc.total = cpu_work_;
 }
 
