@@ -325,8 +325,12 @@ void FixBalanceGraph::pre_exchange()
   const bigint previous_check = last_check_step_;
   last_check_step_ = update->ntimestep;
   // Nothing is timed before the start check: it runs on the model costs.
-  if (cost_model_ == CostModel::Timed && !start_check) scale_to_measured(lc);
-  if (cost_model_ == CostModel::Fitted && !start_check) fit_to_measured(lc, previous_check);
+  if (cost_model_ == CostModel::Fitted && !start_check) {
+    fit_to_measured(lc, previous_check);
+  } else {
+    price(lc);
+    if (cost_model_ == CostModel::Timed && !start_check) scale_to_measured(lc);
+  }
   double sum = 0, max = 0;
   MPI_Allreduce(&lc.total, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&lc.total, &max, 1, MPI_DOUBLE, MPI_MAX, world);
@@ -470,7 +474,6 @@ void FixBalanceGraph::measure(LocalCosts& lc)
   lc.term_sums[fb::kParticle] = nlocal;
   lc.term_sums[fb::kWallCheck] = walls * nlocal;
   lc.term_sums[fb::kGhost] = atom->nghost;
-  price(lc);
 }
 
 // Work model per particle (paper section 5.1): every particle costs something on its own (list

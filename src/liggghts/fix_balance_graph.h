@@ -88,12 +88,13 @@ private:
   std::vector<double> owner_rank_; // per-atom output: the rank that owns the particle
 
   bigint next_regular_check() const;
-  // Counts every term of the work model per local particle and prices them with costs_.
+  // Counts every term of the work model per local particle; price() turns counts into costs_.
   void measure(LocalCosts& lc);
   void price(LocalCosts& lc) const;
   // cost timed: the measured CPU time replaces the modelled rank total.
   void scale_to_measured(LocalCosts& lc) const;
-  // cost fitted: refits costs_ to the measured time of every rank over the last checks.
+  // cost fitted: refits costs_ to the measured time of every rank over the last checks, and
+  // prices the particles with them.
   void fit_to_measured(LocalCosts& lc, bigint previous_check);
   void repartition(const LocalCosts& lc);
   void repartition_cells(const LocalCosts& lc);
