@@ -130,8 +130,6 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
     } else if (key == "partitioner") {
       if (!lookup(kPartitioners, val, partitioner_, expected))
         fail("keyword 'partitioner': expected " + expected + ", got '" + val + "'");
-      if (partitioner_ == Partitioner::Scotch && !fracdem::balance::scotch_available())
-        fail("keyword 'partitioner scotch': this build has no Scotch; use 'partitioner metis'");
     } else if (key == "repartition") {
       if (!lookup(kStrategies, val, strategy_, expected))
         fail("keyword 'repartition': expected " + expected + ", got '" + val + "'");

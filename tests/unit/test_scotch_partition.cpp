@@ -54,12 +54,6 @@ double total(const std::vector<double>& w)
 
 } // namespace
 
-TEST(ScotchPartition, IsAvailableInThisBuild)
-{
-  // Scotch is required by CMakeLists.txt, so a build without it is a configuration error.
-  EXPECT_TRUE(scotch_available());
-}
-
 TEST(ScotchPartition, RebalancesAHeavyStripWithLessMigrationThanMetis)
 {
   const int n = 20, nparts = 4;

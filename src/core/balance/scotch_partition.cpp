@@ -9,37 +9,15 @@
 #include <stdexcept>
 #include <string>
 
-#ifdef FRACDEM_HAVE_SCOTCH
 // scotch.h uses FILE and the fixed-width integer types without including their headers. Its
 // directory is added for this file only: some Scotch installs put a METIS-compatibility metis.h
 // next to it, which must not shadow the real METIS header of graph_partition.cpp.
 #include <stdint.h>
 #include <stdio.h>
 #include <scotch.h>
-#endif
 
 namespace fracdem::balance
 {
-
-#ifndef FRACDEM_HAVE_SCOTCH
-
-bool scotch_available()
-{
-  return false;
-}
-
-std::vector<int> repartition_scotch(const Graph&, const std::vector<int>&, int, double, double)
-{
-  throw std::runtime_error("repartition_scotch: this build has no Scotch (configure with "
-                           "libscotch-dev installed)");
-}
-
-#else
-
-bool scotch_available()
-{
-  return true;
-}
 
 namespace
 {
@@ -233,7 +211,5 @@ std::vector<int> repartition_scotch(const Graph& g, const std::vector<int>& old_
   }
   return out;
 }
-
-#endif
 
 } // namespace fracdem::balance

@@ -9,10 +9,6 @@
 namespace fracdem::balance
 {
 
-// True when this build was compiled against Scotch (FRACDEM_HAVE_SCOTCH); repartition_scotch
-// throws otherwise.
-bool scotch_available();
-
 // Scotch's SCOTCH_graphRepart: partitions g into nparts parts within ubfactor (1.02 allows 2 %
 // imbalance of vertex weights) while minimising edge cut + migration_cost * (weight of the
 // vertices whose part differs from old_part). The migration cost of a vertex is its weight (a
@@ -26,8 +22,8 @@ bool scotch_available();
 // inconsistent CSR arrays, neighbours out of range, a negative or non-finite migration_cost, or
 // an old_part without one entry per vertex in [0, nparts) (every vertex needs a current owner
 // here); std::overflow_error if the graph does not fit SCOTCH_Num; std::runtime_error naming the
-// Scotch routine and its return code if Scotch fails (Scotch prints its reason to stderr), or
-// when this build has no Scotch.
+// Scotch routine and its return code if Scotch fails (Scotch prints its reason to stderr).
+// (Scotch is a required dependency: CMake refuses to configure without libscotch-dev.)
 std::vector<int> repartition_scotch(const Graph& g, const std::vector<int>& old_part, int nparts,
                                     double migration_cost, double ubfactor = 1.02);
 
