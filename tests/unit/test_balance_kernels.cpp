@@ -11,26 +11,10 @@
 #include "balance/cost_calibration.h"
 #include "balance/cell_grid.h"
 #include "balance/graph_partition.h"
+#include "test_support.h"
 
 using namespace fracdem::balance;
-
-namespace
-{
-
-// nx x ny grid graph, unit weights.
-Graph grid_graph(int nx, int ny)
-{
-  std::vector<WeightedPair> pairs;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int v = j * nx + i;
-      if (i + 1 < nx) pairs.push_back({v, v + 1, 1});
-      if (j + 1 < ny) pairs.push_back({v, v + nx, 1});
-    }
-  return build_graph(int64_t(nx) * ny, std::vector<int64_t>(nx * ny, 1), pairs);
-}
-
-} // namespace
+using fracdem_test::grid_graph;
 
 TEST(BalanceKernels, BuildGraphMergesSymmetrisesAndDropsSelfLoops)
 {

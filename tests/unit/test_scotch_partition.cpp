@@ -14,24 +14,13 @@
 
 #include "balance/graph_partition.h"
 #include "balance/scotch_partition.h"
+#include "test_support.h"
 
 using namespace fracdem::balance;
+using fracdem_test::grid_graph;
 
 namespace
 {
-
-// nx x ny grid graph with the given vertex weights and unit edges.
-Graph grid_graph(int nx, int ny, const std::vector<int64_t>& vertex_weight)
-{
-  std::vector<WeightedPair> pairs;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int v = j * nx + i;
-      if (i + 1 < nx) pairs.push_back({v, v + 1, 1});
-      if (j + 1 < ny) pairs.push_back({v, v + nx, 1});
-    }
-  return build_graph(int64_t(nx) * ny, vertex_weight, pairs);
-}
 
 // nparts vertical strips of an n x n grid, numbered left to right.
 std::vector<int> strips(int n, int nparts)

@@ -1,5 +1,6 @@
-// Shared helpers of the unit tests: per-test scratch directories and independent element-measure
-// oracles (written apart from the library's own, so that tests check it rather than echo it).
+// Shared helpers of the unit tests: per-test scratch directories, independent element-measure
+// oracles (written apart from the library's own, so that tests check it rather than echo it) and
+// grid graphs for the partitioners.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,7 +11,9 @@
 #include <fstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
+#include "balance/graph_partition.h"
 #include "fem/mesh.h"
 
 namespace fracdem_test
@@ -75,6 +78,20 @@ inline double signed_area(const fracdem::Mesh& m, int e)
     a += p[0] * q[1] - q[0] * p[1];
   }
   return 0.5 * a;
+}
+
+// nx x ny grid graph with unit edges; unit vertex weights unless given (one per vertex).
+inline fracdem::balance::Graph grid_graph(int nx, int ny, std::vector<int64_t> vertex_weight = {})
+{
+  std::vector<fracdem::balance::WeightedPair> pairs;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int v = j * nx + i;
+      if (i + 1 < nx) pairs.push_back({v, v + 1, 1});
+      if (j + 1 < ny) pairs.push_back({v, v + nx, 1});
+    }
+  if (vertex_weight.empty()) vertex_weight.assign(int64_t(nx) * ny, 1);
+  return fracdem::balance::build_graph(int64_t(nx) * ny, vertex_weight, pairs);
 }
 
 } // namespace fracdem_test
