@@ -129,7 +129,7 @@ def main():
             # plot come from the last repetition.
             s = dict(reps_stats[-1])
             for key, value in reps_stats[-1].items():
-                if isinstance(value, (int, float)) and value is not None:
+                if isinstance(value, (int, float)):
                     s[key] = statistics.median(r[key] for r in reps_stats)
             row = dict(method=name, ranks=np_, reps=reps, loop_s=statistics.median(loops),
                        measured_B=s["measured_B"], model_B=s["model_B"], speedup=s["speedup"],
