@@ -67,8 +67,11 @@ for np_ in (2, 3):
                 f"(predicted B = {csv['predicted_imbalance'][0]:.3f})")
         # The a posteriori graph is weighted by the very cost that is measured, so the next check
         # must see it balanced; the a priori graph balances neighbour counts only (no such claim).
+        # Only for costs fixed during the run: `fitted` (like `timed`) reprices every check from
+        # thread CPU time, which on a shared CI machine is noise at this scene's size (a timed
+        # assertion, which a test must not make; bench/ measures that).
         later = [b for b, r in zip(csv["imbalance"][1:], csv["repartitioned"][:-1]) if r]
-        if cfg["model"] == "aposteriori":
+        if cfg["model"] == "aposteriori" and cfg["cost"] in ("counts", "calibrated"):
             h.check(later and later[0] < 1.15,
                     f"np={np_} {name}: measured B after the repartition {later[0]:.3f} < 1.15")
         w = worst_rel(stock, graph, ["KinEng", "rke", "sumid"])
