@@ -759,10 +759,10 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
     edges.push_back(ew.first / ncells), edges.push_back(ew.first % ncells),
         edges.push_back(ew.second);
 
-  const GatheredGraph gg = gather_graph(verts, edges);
+  GatheredGraph gg = gather_graph(verts, edges);
+  gg.edges.resize(me == 0 ? gg.etotal : 0); // whole triples only (the buffer has >= 1 entry)
   const std::vector<int>&vcount = gg.vcount, &vdisp = gg.vdisp;
   const std::vector<std::int64_t>&all_verts = gg.verts, &all_edges = gg.edges;
-  const int etotal = gg.etotal;
 
   std::vector<int> owners(ncells);
   double stats[2] = {1.0, 0.0};
@@ -787,35 +787,10 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
           if (w > best_share[v]) best_share[v] = w, old_owner[v] = p;
         }
       }
-    const std::int64_t n = static_cast<std::int64_t>(cells.size());
-    std::vector<fb::WeightedPair> pairs;
-    for (int e = 0; e + 2 < etotal; e += 3) {
-      const std::int64_t a = vertex_of_cell[all_edges[e]], b = vertex_of_cell[all_edges[e + 1]];
-      if (a >= 0 && b >= 0) pairs.push_back({a, b, all_edges[e + 2]}); // not a ghost-only cell
-    }
     // Unit edges between touching occupied cells keep parts compact where particles have no
     // neighbours yet (free fall, dilute inflow): few ghosts, and no scattered parts.
-    for (std::int64_t v = 0; v < n; ++v) {
-      std::int64_t c[3];
-      grid_.coords(cells[v], c);
-      const int zr = grid_.n[2] > 1 ? 1 : 0;
-      for (int dz = -zr; dz <= zr; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            std::int64_t m[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
-            bool ok = true;
-            for (int d = 0; d < 3; ++d)
-              if (m[d] < 0 || m[d] >= grid_.n[d]) {
-                if (!grid_.periodic[d]) ok = false;
-                m[d] = (m[d] + grid_.n[d]) % grid_.n[d];
-              }
-            if (!ok) continue;
-            const std::int64_t u = vertex_of_cell[grid_.id(m[0], m[1], m[2])];
-            if (u > v) pairs.push_back({v, u, 1});
-          }
-    }
     try {
-      const fb::Graph g = fb::build_graph(n, vwgt, pairs);
+      const fb::Graph g = fb::build_cell_graph(grid_, cells, vertex_of_cell, vwgt, all_edges);
       const std::vector<int> part = partition_on_root(g, old_owner, stats);
       owners = fb::fill_cell_owners(grid_, cells, part);
     } catch (const std::exception& ex) {

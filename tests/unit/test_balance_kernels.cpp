@@ -342,3 +342,99 @@ TEST(BalanceKernels, CellGridMapsPointsAndFillsOwnersByDistance)
     EXPECT_GE(owner[cell], 0);
   }
 }
+
+// The cell graph against a brute-force rule: between two occupied cells, one unit per offset in
+// {-1,0,1}^dim that leads from one to the other (periodic wrap, nothing across a wall), plus the
+// clamped weights of the contact triples naming both. Grids with a periodic dimension of 2 cells
+// (two offsets reach the same neighbour), of 1 cell, and a 2D grid.
+TEST(BalanceKernels, CellGraphMatchesBruteForceTouchingAndContactWeights)
+{
+  struct Case {
+    int64_t n[3];
+    bool periodic[3];
+  };
+  const Case cases[] = {{{5, 4, 3}, {true, true, false}},
+                        {{2, 3, 4}, {true, false, true}},
+                        {{1, 5, 3}, {true, true, false}},
+                        {{6, 5, 1}, {true, false, false}}};
+  std::mt19937 rng(20261123);
+  for (const Case& cs : cases) {
+    CellGrid grid;
+    for (int d = 0; d < 3; ++d)
+      grid.n[d] = cs.n[d], grid.periodic[d] = cs.periodic[d];
+    const int64_t total = grid.total();
+    std::vector<int64_t> cells, vertex_of_cell(total, -1), vwgt;
+    for (int64_t c = 0; c < total; ++c)
+      if (rng() % 10 < 6) {
+        vertex_of_cell[c] = static_cast<int64_t>(cells.size());
+        cells.push_back(c), vwgt.push_back(static_cast<int64_t>(rng() % 5)); // 0 is clamped
+      }
+    const int64_t n = static_cast<int64_t>(cells.size());
+    std::vector<int64_t> triples;
+    for (int k = 0; k < 60; ++k) // any two cells: unoccupied, equal, far apart, weight 0
+      triples.insert(triples.end(),
+                     {static_cast<int64_t>(rng() % total), static_cast<int64_t>(rng() % total),
+                      static_cast<int64_t>(rng() % 4)});
+    triples.insert(triples.end(), {-1, cells[0], 3}); // outside the grid: dropped
+
+    std::vector<std::map<int64_t, int64_t>> expected(n);
+    const bool flat = grid.n[2] == 1;
+    for (int64_t v = 0; v < n; ++v) {
+      int64_t a[3], b[3];
+      grid.coords(cells[v], a);
+      for (int64_t u = 0; u < n; ++u) {
+        if (u == v) continue;
+        grid.coords(cells[u], b);
+        int64_t units = 0;
+        for (int dz = flat ? 0 : -1; dz <= (flat ? 0 : 1); ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int off[3] = {dx, dy, dz};
+              bool hit = true;
+              for (int d = 0; d < 3; ++d) {
+                int64_t m = a[d] + off[d];
+                if (m < 0 || m >= grid.n[d]) {
+                  if (!grid.periodic[d]) hit = false;
+                  m = (m + grid.n[d]) % grid.n[d];
+                }
+                hit = hit && m == b[d];
+              }
+              units += hit;
+            }
+        if (units > 0) expected[v][u] += units;
+      }
+    }
+    for (size_t e = 0; e < triples.size(); e += 3) {
+      const int64_t ca = triples[e], cb = triples[e + 1];
+      if (ca < 0 || cb < 0 || ca == cb || vertex_of_cell[ca] < 0 || vertex_of_cell[cb] < 0)
+        continue;
+      const int64_t w = std::max<int64_t>(1, triples[e + 2]);
+      expected[vertex_of_cell[ca]][vertex_of_cell[cb]] += w;
+      expected[vertex_of_cell[cb]][vertex_of_cell[ca]] += w;
+    }
+
+    const Graph g = build_cell_graph(grid, cells, vertex_of_cell, vwgt, triples);
+    ASSERT_EQ(g.num_vertices(), n);
+    for (int64_t v = 0; v < n; ++v) {
+      EXPECT_EQ(g.vwgt[v], std::max<int64_t>(1, vwgt[v]));
+      std::map<int64_t, int64_t> row;
+      for (int64_t k = g.xadj[v]; k < g.xadj[v + 1]; ++k)
+        EXPECT_TRUE(row.emplace(g.adjncy[k], g.adjwgt[k]).second) << "repeated neighbour";
+      EXPECT_EQ(row, expected[v]) << "grid " << grid.n[0] << "x" << grid.n[1] << "x" << grid.n[2]
+                                  << ", vertex " << v;
+    }
+  }
+}
+
+TEST(BalanceKernels, CellGraphRejectsInconsistentInput)
+{
+  CellGrid grid;
+  grid.n[0] = 3;
+  const std::vector<int64_t> cells = {0, 2}, vertex_of_cell = {0, -1, 1};
+  EXPECT_THROW(build_cell_graph(grid, cells, {0, -1}, {1, 1}, {}), std::invalid_argument);
+  EXPECT_THROW(build_cell_graph(grid, cells, vertex_of_cell, {1}, {}), std::invalid_argument);
+  EXPECT_THROW(build_cell_graph(grid, cells, vertex_of_cell, {1, 1}, {0, 2}),
+               std::invalid_argument);
+  EXPECT_THROW(build_cell_graph(grid, {0, 1}, vertex_of_cell, {1, 1}, {}), std::invalid_argument);
+  EXPECT_EQ(build_cell_graph(grid, cells, vertex_of_cell, {1, 1}, {0, 2, 5}).num_edges(), 1);
+}

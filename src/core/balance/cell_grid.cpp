@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace fracdem::balance
 {
@@ -81,6 +83,86 @@ std::vector<int> fill_cell_owners(const CellGrid& grid, const std::vector<int64_
     frontier.swap(next);
   }
   return owner;
+}
+
+Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
+                       const std::vector<int64_t>& vertex_of_cell, const std::vector<int64_t>& vwgt,
+                       const std::vector<int64_t>& cell_edges)
+{
+  const int64_t n = static_cast<int64_t>(cells.size()), total = grid.total();
+  if (static_cast<int64_t>(vertex_of_cell.size()) != total)
+    throw std::invalid_argument("build_cell_graph: vertex_of_cell needs one entry per grid cell");
+  if (static_cast<int64_t>(vwgt.size()) != n)
+    throw std::invalid_argument("build_cell_graph: vwgt needs one entry per occupied cell");
+  if (cell_edges.size() % 3 != 0)
+    throw std::invalid_argument("build_cell_graph: cell_edges must hold (cell, cell, weight) "
+                                "triples");
+  for (int64_t v = 0; v < n; ++v)
+    if (cells[v] < 0 || cells[v] >= total || vertex_of_cell[cells[v]] != v)
+      throw std::invalid_argument("build_cell_graph: cells[" + std::to_string(v) +
+                                  "] and vertex_of_cell disagree");
+  const auto vertex = [&](int64_t cell) {
+    return cell >= 0 && cell < total ? vertex_of_cell[cell] : int64_t{-1};
+  };
+
+  // Contact entries of both directions bucketed by source vertex (counting sort).
+  std::vector<int64_t> start(n + 1, 0);
+  for (size_t e = 0; e < cell_edges.size(); e += 3) {
+    const int64_t a = vertex(cell_edges[e]), b = vertex(cell_edges[e + 1]);
+    if (a >= 0 && b >= 0 && a != b) ++start[a + 1], ++start[b + 1];
+  }
+  for (int64_t v = 0; v < n; ++v)
+    start[v + 1] += start[v];
+  std::vector<std::pair<int64_t, int64_t>> contacts(start[n]); // (neighbour, weight)
+  std::vector<int64_t> fill(start.begin(), start.end() - 1);
+  for (size_t e = 0; e < cell_edges.size(); e += 3) {
+    const int64_t a = vertex(cell_edges[e]), b = vertex(cell_edges[e + 1]);
+    if (a < 0 || b < 0 || a == b) continue;
+    const int64_t w = std::max<int64_t>(1, cell_edges[e + 2]);
+    contacts[fill[a]++] = {b, w};
+    contacts[fill[b]++] = {a, w};
+  }
+
+  Graph g;
+  g.xadj.assign(n + 1, 0);
+  g.vwgt.resize(n);
+  const int zr = grid.n[2] > 1 ? 1 : 0;
+  const size_t stencil = zr ? 26 : 8;
+  g.adjncy.reserve(contacts.size() + stencil * n);
+  g.adjwgt.reserve(contacts.size() + stencil * n);
+  std::vector<int64_t> slot_row(n, -1), slot(n); // where neighbour u sits in the current row
+  const auto add = [&](int64_t v, int64_t u, int64_t w) {
+    if (slot_row[u] == v) {
+      g.adjwgt[slot[u]] += w;
+      return;
+    }
+    slot_row[u] = v, slot[u] = static_cast<int64_t>(g.adjncy.size());
+    g.adjncy.push_back(u);
+    g.adjwgt.push_back(w);
+  };
+  for (int64_t v = 0; v < n; ++v) {
+    g.vwgt[v] = std::max<int64_t>(1, vwgt[v]);
+    for (int64_t k = start[v]; k < start[v + 1]; ++k)
+      add(v, contacts[k].first, contacts[k].second);
+    int64_t c[3];
+    grid.coords(cells[v], c);
+    for (int dz = -zr; dz <= zr; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int64_t m[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
+          bool inside = true;
+          for (int d = 0; d < 3; ++d)
+            if (m[d] < 0 || m[d] >= grid.n[d]) {
+              if (!grid.periodic[d]) inside = false;
+              m[d] = (m[d] + grid.n[d]) % grid.n[d];
+            }
+          if (!inside) continue;
+          const int64_t u = vertex_of_cell[grid.id(m[0], m[1], m[2])];
+          if (u >= 0 && u != v) add(v, u, 1);
+        }
+    g.xadj[v + 1] = static_cast<int64_t>(g.adjncy.size());
+  }
+  return g;
 }
 
 } // namespace fracdem::balance

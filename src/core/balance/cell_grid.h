@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "balance/graph_partition.h"
+
 namespace fracdem::balance
 {
 
@@ -31,6 +33,18 @@ CellGrid make_cell_grid(const double lo[3], const double hi[3], double cell, int
 // an empty region go to the rank that owns its surroundings. All -1 if nothing is occupied.
 std::vector<int> fill_cell_owners(const CellGrid& grid, const std::vector<int64_t>& occupied,
                                   const std::vector<int>& owner_of_occupied);
+
+// The graph of occupied cells: vertex v is cell cells[v] (vertex_of_cell maps every cell of the
+// grid to its vertex, or -1 if unoccupied) with weight vwgt[v]; an edge of weight 1 joins every
+// two touching occupied cells (26 neighbours in 3D, 8 in 2D, periodic wrap, counted once per
+// offset that reaches the neighbour) and cell_edges, triples (cell a, cell b, weight >= 1 after
+// clamping), add their weights to the edge between a and b (creating it where the cells do not
+// touch). Triples naming an unoccupied cell or the same cell twice are dropped. The same graph as
+// build_graph over the contact and touching pairs, in one pass over the rows instead of a bucket
+// sort of every touching pair (most of a repartition's time on rank 0 went there).
+Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
+                       const std::vector<int64_t>& vertex_of_cell, const std::vector<int64_t>& vwgt,
+                       const std::vector<int64_t>& cell_edges);
 
 } // namespace fracdem::balance
 
