@@ -8,6 +8,10 @@ rcb weight neigh/time as the spatial reference. Scenes:
 
   python3 bench/balance_compare.py [--scene settle] [--ranks 1 2 4 6] [--steps N] [--reps 3]
 
+On the settling bed a control runs first at each rank count that allows it: identical copies of
+the scene on equal sub-domains (work model B = 1 exactly), so that its measured B is the noise
+floor that the machine adds to every measured B of the same run.
+
 Writes, per scene, balance_<scene>_runs.csv (one row per run), balance_<scene>_summary.md (tables
 in the form of the paper's Tables 1-3), balance_<scene>_rank_work.png (per-rank CPU work at the
 largest rank count, Fig. 4 form) and balance_<scene>_history.png (B over the run). Wall-clock figures are meaningful only where ranks <= cores;
@@ -39,6 +43,30 @@ FRACDEM_METHODS = {  # name -> variables of in.settle_fracdem
     "graph a posteriori timed scotch": dict(thresh=1.05, model="aposteriori", cost="timed",
                                             partitioner="scotch"),
 }
+# Control (settle only): the stock grid cut into px x py sub-domains holding identical copies of
+# the scene (no jitter; lattices commensurate with the grid, atoms off the cuts). The work model
+# says B = 1 exactly; the measured B is what the machine adds (timer noise, cores of unequal or
+# varying speed): the floor of any balancer that trusts a work model, and the yardstick for the
+# measured B of the others.
+NOISE_FLOOR = "equal sub-domains (noise floor)"
+NOISE_FLOOR_GRIDS = {1: (1, 1), 2: (2, 1), 4: (2, 2), 6: (2, 3), 8: (2, 4), 16: (4, 4)}
+LOW_SPACING, NOISE_FLOOR_HISPACE = 0.0088, 0.0264  # in.settle_fracdem's bed lattice; the cloud's
+
+
+def noise_floor_vars(np_, box_edge):
+    """Input variables of the control at np_ ranks, or None where no grid cuts the box into
+    identical copies (both lattices must have a whole number of columns per sub-domain)."""
+    grid = NOISE_FLOOR_GRIDS.get(np_)
+    if grid is None:
+        return None
+    for spacing in (LOW_SPACING, NOISE_FLOOR_HISPACE):
+        columns = box_edge / spacing
+        if abs(columns - round(columns)) > 1e-6 or any(round(columns) % p for p in grid):
+            return None
+    return dict(thresh="1e30", model="aposteriori", cost="counts", jitter=0,
+                hispace=NOISE_FLOOR_HISPACE, origin=0.5, px=grid[0], py=grid[1], pz=1)
+
+
 LAMMPS_METHODS = {  # name -> balance variable of in.settle_lammps
     "LAMMPS slabs": "none",
     "LAMMPS shift": "shift",
@@ -90,7 +118,9 @@ def main():
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 6])
     ap.add_argument("--scene", choices=sorted(SCENES), default="settle")
     ap.add_argument("--steps", type=int, default=None, help="default: per scene")
-    ap.add_argument("--reps", type=int, default=3, help="repetitions where ranks <= cores")
+    ap.add_argument("--reps", type=int, default=3,
+                    help="repetitions (medians are reported; oversubscribed rank counts too, "
+                         "whose work figures hold while their wall clock does not)")
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--no-lammps", action="store_true")
     ap.add_argument("--methods", nargs="+", help="only methods whose name contains one of these")
@@ -111,13 +141,23 @@ def main():
                if not args.methods or any(m in k for m in args.methods)}
     lammps_methods = {k: v for k, v in LAMMPS_METHODS.items()
                       if not args.methods or any(m in k for m in args.methods)}
+    want_floor = args.scene == "settle" and (not args.methods or
+                                             any(m in NOISE_FLOOR for m in args.methods))
     rows, rank_work, history = [], {}, {}
     for np_ in args.ranks:
-        reps = args.reps if np_ <= cores else 1
-        for name, var in methods.items():
+        reps = args.reps
+        rank_methods = dict(methods)
+        floor = noise_floor_vars(np_, float(extra.get("L", 0.1584))) if want_floor else None
+        if floor:
+            rank_methods = {NOISE_FLOOR: floor, **rank_methods}
+        elif want_floor:
+            print(f"no noise-floor control at {np_} ranks (no grid of identical sub-domains)")
+        for name, var in rank_methods.items():
             run_vars = dict(dict(steps=steps, balance=1, **var), **extra)
             if var.get("thresh") == "1e30":
                 run_vars["thresh"] = "1e30"  # the stock slabs stay unbalanced whatever --var says
+            if name == NOISE_FLOOR:
+                run_vars.update(var)  # its sub-domains must stay identical whatever --var says
             loops, reps_stats, last = [], [], None
             for _ in range(reps):
                 stats, df = run_one(args.exe, script, np_, run_vars, mesh)
