@@ -124,26 +124,13 @@ Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
   }
 
   Graph g;
-  g.xadj.assign(n + 1, 0);
-  g.vwgt.resize(n);
   const int zr = grid.n[2] > 1 ? 1 : 0;
   const size_t stencil = zr ? 26 : 8;
-  g.adjncy.reserve(contacts.size() + stencil * n);
-  g.adjwgt.reserve(contacts.size() + stencil * n);
-  std::vector<int64_t> slot_row(n, -1), slot(n); // where neighbour u sits in the current row
-  const auto add = [&](int64_t v, int64_t u, int64_t w) {
-    if (slot_row[u] == v) {
-      g.adjwgt[slot[u]] += w;
-      return;
-    }
-    slot_row[u] = v, slot[u] = static_cast<int64_t>(g.adjncy.size());
-    g.adjncy.push_back(u);
-    g.adjwgt.push_back(w);
-  };
+  GraphRowWriter rows(g, n, contacts.size() + stencil * static_cast<size_t>(n));
   for (int64_t v = 0; v < n; ++v) {
     g.vwgt[v] = std::max<int64_t>(1, vwgt[v]);
     for (int64_t k = start[v]; k < start[v + 1]; ++k)
-      add(v, contacts[k].first, contacts[k].second);
+      rows.add(v, contacts[k].first, contacts[k].second);
     int64_t c[3];
     grid.coords(cells[v], c);
     for (int dz = -zr; dz <= zr; ++dz)
@@ -158,9 +145,9 @@ Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
             }
           if (!inside) continue;
           const int64_t u = vertex_of_cell[grid.id(m[0], m[1], m[2])];
-          if (u >= 0 && u != v) add(v, u, 1);
+          if (u >= 0 && u != v) rows.add(v, u, 1);
         }
-    g.xadj[v + 1] = static_cast<int64_t>(g.adjncy.size());
+    rows.end_row(v);
   }
   return g;
 }

@@ -13,6 +13,27 @@
 namespace fracdem::balance
 {
 
+GraphRowWriter::GraphRowWriter(Graph& g, int64_t n, std::size_t entries_hint)
+    : g_(g), slot_row_(n, -1), slot_(n)
+{
+  g_.xadj.assign(n + 1, 0);
+  g_.vwgt.resize(n);
+  g_.adjncy.clear(), g_.adjwgt.clear();
+  g_.adjncy.reserve(entries_hint);
+  g_.adjwgt.reserve(entries_hint);
+}
+
+void GraphRowWriter::add(int64_t v, int64_t u, int64_t w)
+{
+  if (slot_row_[u] == v) {
+    g_.adjwgt[slot_[u]] += w;
+    return;
+  }
+  slot_row_[u] = v, slot_[u] = static_cast<int64_t>(g_.adjncy.size());
+  g_.adjncy.push_back(u);
+  g_.adjwgt.push_back(w);
+}
+
 Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
                   const std::vector<WeightedPair>& pairs)
 {
@@ -39,24 +60,12 @@ Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
     row_entries[fill[p.j]++] = {p.i, w};
   }
   Graph g;
-  g.xadj.assign(n + 1, 0);
-  g.adjncy.reserve(row_entries.size());
-  g.adjwgt.reserve(row_entries.size());
-  g.vwgt.resize(n);
-  std::vector<int64_t> slot_row(n, -1), slot(n); // where neighbour u sits in the current row
+  GraphRowWriter rows(g, n, row_entries.size());
   for (int64_t v = 0; v < n; ++v) {
     g.vwgt[v] = std::max<int64_t>(1, vertex_weight[v]);
-    for (int64_t k = start[v]; k < start[v + 1]; ++k) {
-      const auto [u, w] = row_entries[k];
-      if (slot_row[u] == v) {
-        g.adjwgt[slot[u]] += w;
-        continue;
-      }
-      slot_row[u] = v, slot[u] = static_cast<int64_t>(g.adjncy.size());
-      g.adjncy.push_back(u);
-      g.adjwgt.push_back(w);
-    }
-    g.xadj[v + 1] = static_cast<int64_t>(g.adjncy.size());
+    for (int64_t k = start[v]; k < start[v + 1]; ++k)
+      rows.add(v, row_entries[k].first, row_entries[k].second);
+    rows.end_row(v);
   }
   return g;
 }

@@ -2,6 +2,7 @@
 #ifndef FRACDEM_BALANCE_GRAPH_PARTITION_H
 #define FRACDEM_BALANCE_GRAPH_PARTITION_H
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -17,6 +18,20 @@ struct Graph {
   std::vector<int64_t> adjwgt; // edge weights, parallel to adjncy (>= 1)
   int64_t num_vertices() const { return xadj.empty() ? 0 : static_cast<int64_t>(xadj.size()) - 1; }
   int64_t num_edges() const { return static_cast<int64_t>(adjncy.size()) / 2; }
+};
+
+// Fills a Graph's CSR rows in order, one row at a time: a neighbour added twice to the same row
+// gets the sum of its weights (O(1) per entry: a mark per vertex says where it sits in the row).
+class GraphRowWriter
+{
+public:
+  GraphRowWriter(Graph& g, int64_t n, std::size_t entries_hint);
+  void add(int64_t v, int64_t u, int64_t w); // entry u of row v; v is the row being written
+  void end_row(int64_t v) { g_.xadj[v + 1] = static_cast<int64_t>(g_.adjncy.size()); }
+
+private:
+  Graph& g_;
+  std::vector<int64_t> slot_row_, slot_;
 };
 
 struct WeightedPair {
