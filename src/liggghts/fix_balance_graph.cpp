@@ -560,6 +560,10 @@ FixBalanceGraph::gather_graph(const std::vector<std::int64_t>& verts,
               gg.vdisp.data(), MPI_INT64_T, 0, world);
   MPI_Gatherv(edges.data(), counts[1], MPI_INT64_T, gg.edges.data(), ecount.data(), edisp.data(),
               MPI_INT64_T, 0, world);
+  // The receive buffers had at least one entry (a valid pointer for MPI); hand back the gathered
+  // arrays only, so that the edges are whole triples.
+  gg.verts.resize(comm->me == 0 ? gg.vtotal : 0);
+  gg.edges.resize(comm->me == 0 ? gg.etotal : 0);
   return gg;
 }
 
@@ -759,8 +763,7 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
     edges.push_back(ew.first / ncells), edges.push_back(ew.first % ncells),
         edges.push_back(ew.second);
 
-  GatheredGraph gg = gather_graph(verts, edges);
-  gg.edges.resize(me == 0 ? gg.etotal : 0); // whole triples only (the buffer has >= 1 entry)
+  const GatheredGraph gg = gather_graph(verts, edges);
   const std::vector<int>&vcount = gg.vcount, &vdisp = gg.vdisp;
   const std::vector<std::int64_t>&all_verts = gg.verts, &all_edges = gg.edges;
 

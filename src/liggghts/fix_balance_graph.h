@@ -102,7 +102,7 @@ private:
   std::vector<std::int64_t> vertex_weights(const LocalCosts& lc) const;
   // Vertex and edge arrays of all ranks on rank 0, with each rank's vertex block.
   struct GatheredGraph {
-    std::vector<std::int64_t> verts, edges;
+    std::vector<std::int64_t> verts, edges; // on rank 0: exactly vtotal and etotal entries
     std::vector<int> vcount, vdisp;
     int vtotal = 0, etotal = 0;
   };
