@@ -83,17 +83,6 @@ enum VectorIndex {
   kVectorSize
 };
 
-void rotate_about_axis(const double axis_in[3], double angle, const double p[3], double out[3])
-{
-  double n = std::sqrt(axis_in[0] * axis_in[0] + axis_in[1] * axis_in[1] + axis_in[2] * axis_in[2]);
-  double k[3] = {axis_in[0] / n, axis_in[1] / n, axis_in[2] / n};
-  double c = std::cos(angle), s = std::sin(angle);
-  double kdotp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-  double kxp[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]};
-  for (int d = 0; d < 3; ++d)
-    out[d] = p[d] * c + kxp[d] * s + k[d] * kdotp * (1 - c);
-}
-
 } // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -215,13 +204,14 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 5;
     } else if (!strcmp(kw, "scale")) {
       need(iarg, 1, kw, "a factor");
-      Transform t{Transform::Scale, {force->numeric(FLERR, arg[iarg + 1]), 0, 0, 0}};
+      fracdem::MeshTransform t{fracdem::MeshTransform::Scale,
+                               {force->numeric(FLERR, arg[iarg + 1]), 0, 0, 0}};
       if (t.a[0] <= 0) error->all(FLERR, "fix fem/body: keyword 'scale' must be > 0");
       transforms_.push_back(t);
       iarg += 2;
     } else if (!strcmp(kw, "move")) {
       need(iarg, 3, kw, "dx dy dz");
-      Transform t{Transform::Move, {0, 0, 0, 0}};
+      fracdem::MeshTransform t{fracdem::MeshTransform::Move, {0, 0, 0, 0}};
       for (int d = 0; d < 3; ++d)
         t.a[d] = force->numeric(FLERR, arg[iarg + 1 + d]);
       transforms_.push_back(t);
@@ -230,7 +220,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       need(iarg, 6, kw, "axis ax ay az angle DEGREES");
       if (strcmp(arg[iarg + 1], "axis") || strcmp(arg[iarg + 5], "angle"))
         error->all(FLERR, "fix fem/body: keyword 'rotate' expects 'axis ax ay az angle DEGREES'");
-      Transform t{Transform::Rotate, {0, 0, 0, 0}};
+      fracdem::MeshTransform t{fracdem::MeshTransform::Rotate, {0, 0, 0, 0}};
       for (int d = 0; d < 3; ++d)
         t.a[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
       t.a[3] = force->numeric(FLERR, arg[iarg + 6]) * M_PI / 180.0;
@@ -240,36 +230,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       rigid_ = either(iarg, kw, "yes", "no");
       iarg += 2;
     } else if (!strcmp(kw, "motion")) {
-      need(iarg, 1, kw, "linear vx vy vz | rotate origin ox oy oz axis ax ay az period T");
-      if (!strcmp(arg[iarg + 1], "linear")) {
-        need(iarg, 4, kw, "linear vx vy vz");
-        motion_ = MotionKind::Linear;
-        for (int d = 0; d < 3; ++d)
-          motion_vel_[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
-        iarg += 5;
-      } else if (!strcmp(arg[iarg + 1], "rotate")) {
-        need(iarg, 10, kw, "rotate origin ox oy oz axis ax ay az period T");
-        if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") ||
-            strcmp(arg[iarg + 10], "period"))
-          error->all(FLERR,
-                     "fix fem/body: keyword 'motion rotate' expects 'origin ox oy oz axis ax "
-                     "ay az period T'");
-        motion_ = MotionKind::Rotate;
-        for (int d = 0; d < 3; ++d) {
-          motion_origin_[d] = force->numeric(FLERR, arg[iarg + 3 + d]);
-          motion_axis_[d] = force->numeric(FLERR, arg[iarg + 7 + d]);
-        }
-        motion_period_ = force->numeric(FLERR, arg[iarg + 11]);
-        double n = std::sqrt(motion_axis_[0] * motion_axis_[0] + motion_axis_[1] * motion_axis_[1] +
-                             motion_axis_[2] * motion_axis_[2]);
-        if (n == 0 || motion_period_ == 0)
-          error->all(FLERR, "fix fem/body: 'motion rotate' needs a non-zero axis and period");
-        for (double& a : motion_axis_)
-          a /= n;
-        iarg += 12;
-      } else {
-        error->all(FLERR, "fix fem/body: keyword 'motion' expects 'linear' or 'rotate'");
-      }
+      parse_motion(narg, arg, iarg);
     } else if (!strcmp(kw, "contact_model")) {
       need(iarg, 1, kw, "hertz or hooke");
       normal_model_ = lookup(error, kNormalModelTable, kw, arg[iarg + 1]);
@@ -308,6 +269,50 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     }
   }
 
+  check_arguments();
+}
+
+void FixFemBody::parse_motion(int narg, char** arg, int& iarg)
+{
+  auto need = [&](int n, const char* what) {
+    if (iarg + n >= narg) {
+      std::string msg = std::string(kStyle) + ": keyword 'motion' expects " + what;
+      error->all(FLERR, msg.c_str());
+    }
+  };
+  need(1, "linear vx vy vz | rotate origin ox oy oz axis ax ay az period T");
+  if (!strcmp(arg[iarg + 1], "linear")) {
+    need(4, "linear vx vy vz");
+    motion_.kind = fracdem::RigidMotion::Linear;
+    for (int d = 0; d < 3; ++d)
+      motion_.velocity[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
+    iarg += 5;
+  } else if (!strcmp(arg[iarg + 1], "rotate")) {
+    need(10, "rotate origin ox oy oz axis ax ay az period T");
+    if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") ||
+        strcmp(arg[iarg + 10], "period"))
+      error->all(FLERR, "fix fem/body: keyword 'motion rotate' expects 'origin ox oy oz axis ax "
+                        "ay az period T'");
+    motion_.kind = fracdem::RigidMotion::Rotate;
+    for (int d = 0; d < 3; ++d) {
+      motion_.origin[d] = force->numeric(FLERR, arg[iarg + 3 + d]);
+      motion_.axis[d] = force->numeric(FLERR, arg[iarg + 7 + d]);
+    }
+    motion_.period = force->numeric(FLERR, arg[iarg + 11]);
+    double* k = motion_.axis;
+    const double n = std::sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
+    if (n == 0 || motion_.period == 0)
+      error->all(FLERR, "fix fem/body: 'motion rotate' needs a non-zero axis and period");
+    for (int d = 0; d < 3; ++d)
+      k[d] /= n;
+    iarg += 12;
+  } else {
+    error->all(FLERR, "fix fem/body: keyword 'motion' expects 'linear' or 'rotate'");
+  }
+}
+
+void FixFemBody::check_arguments()
+{
   if (surface_type_ < 1 || surface_type_ > atom->ntypes) {
     std::string msg = std::string(kStyle) +
                       ": keyword 'type' is required and must be an atom type "
@@ -323,7 +328,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       error->all(FLERR, "fix fem/body: 'density' and 'youngs' must be > 0");
     if (material_.nu <= -1.0 || material_.nu >= 0.5)
       error->all(FLERR, "fix fem/body: 'poisson' must lie in (-1, 0.5)");
-    if (motion_ != MotionKind::None)
+    if (motion_.kind != fracdem::RigidMotion::None)
       error->all(FLERR, "fix fem/body: keyword 'motion' needs 'rigid yes' (deformable bodies move "
                         "by forces and 'prescribed_velocity')");
   } else {
@@ -339,119 +344,80 @@ void FixFemBody::parse_arguments(int narg, char** arg)
 
 void FixFemBody::load_mesh()
 {
+  fracdem::Mesh mesh;
   try {
-    mesh_ = fracdem::read_gmsh(mesh_file_, domain->dimension);
+    mesh = fracdem::read_gmsh(mesh_file_, domain->dimension);
   } catch (const std::exception& e) {
     std::string msg = std::string(kStyle) + " " + id + ": cannot use mesh: " + e.what();
     error->all(FLERR, msg.c_str());
   }
-  if (mesh_.dim != domain->dimension) {
+  if (mesh.dim != domain->dimension) {
     std::string msg = std::string(kStyle) + ": mesh '" + mesh_file_ + "' is " +
-                      std::to_string(mesh_.dim) + "D but the simulation is " +
+                      std::to_string(mesh.dim) + "D but the simulation is " +
                       std::to_string(domain->dimension) + "D";
     error->all(FLERR, msg.c_str());
   }
-  apply_initial_transforms();
+  if (!fracdem::apply_transforms(mesh, transforms_))
+    error->all(FLERR, "fix fem/body: 2D mesh must stay in the z = 0 plane after 'move'/'rotate'");
 
   try {
-    space_.build(mesh_, material_);
+    body_.build(std::move(mesh), material_, rigid_);
   } catch (const std::exception& e) {
     std::string msg =
         std::string(kStyle) + " " + id + ": bad mesh '" + mesh_file_ + "': " + e.what();
     error->all(FLERR, msg.c_str());
   }
-
-  const int nn = mesh_.num_nodes();
-  x_ = mesh_.X;
-  v_.assign(3 * nn, 0.0);
-  f_.assign(3 * nn, 0.0);
-  f_contact_.assign(3 * nn, 0.0);
-  f_contact_prev_.assign(3 * nn, 0.0);
-  space_.lumped_masses(mesh_, mass_);
-  inv_mass_.resize(nn);
-  for (int i = 0; i < nn; ++i)
-    inv_mass_[i] = mass_[i] > 0 ? 1.0 / mass_[i] : 0.0;
-
-  node_fixed_.assign(nn, 0);
-  v_prescribed_.assign(3 * nn, 0.0);
+  body_.set_rigid_motion(motion_);
   for (const auto& s : fixed_sets_)
-    for (int n : node_set(s, "fixed"))
-      node_fixed_[n] = 1;
+    body_.set_fixed(node_set(s, "fixed"));
   for (const auto& s : prescribed_velocity_)
-    for (int n : node_set(s.set, "prescribed_velocity")) {
-      node_fixed_[n] = 2;
-      for (int d = 0; d < 3; ++d)
-        v_prescribed_[3 * n + d] = s.v[d];
-    }
+    body_.set_prescribed_velocity(node_set(s.set, "prescribed_velocity"), s.v);
   for (const auto& s : initial_velocity_)
     node_set(s.set, "velocity"); // validate names now
 
   // Split element work evenly; every rank holds the whole body (replicated).
-  const int ne = mesh_.num_elems();
-  elem_begin_ = static_cast<int>((static_cast<long long>(ne) * comm->me) / comm->nprocs);
-  elem_end_ = static_cast<int>((static_cast<long long>(ne) * (comm->me + 1)) / comm->nprocs);
+  const long long ne = body_.mesh().num_elems();
+  body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
+                          static_cast<int>((ne * (comm->me + 1)) / comm->nprocs));
+  contact_.rebuild_surface(body_.mesh());
+  log_body();
+}
 
-  rebuild_surface();
-
-  if (comm->me == 0) {
-    char line[512];
-    snprintf(line, sizeof(line),
-             "fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s\n", id,
-             mesh_file_.c_str(), nn, ne, facets_.size(), rigid_ ? "rigid" : "deformable ",
-             rigid_ ? ""
-                    : (material_.kinematics == fracdem::Kinematics::Corotational
-                           ? "corotational"
-                           : "small-strain elastic"));
-    if (screen) fputs(line, screen);
-    if (logfile) fputs(line, logfile);
-  }
+void FixFemBody::log_body()
+{
+  if (comm->me != 0) return;
+  char line[512];
+  snprintf(line, sizeof(line),
+           "fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s\n", id,
+           mesh_file_.c_str(), body_.num_nodes(), body_.mesh().num_elems(),
+           contact_.facets().size(), rigid_ ? "rigid" : "deformable ",
+           rigid_ ? ""
+                  : (material_.kinematics == fracdem::Kinematics::Corotational
+                         ? "corotational"
+                         : "small-strain elastic"));
+  if (screen) fputs(line, screen);
+  if (logfile) fputs(line, logfile);
 }
 
 std::vector<int> FixFemBody::node_set(const std::string& name, const char* keyword) const
 {
+  const fracdem::Mesh& mesh = body_.mesh();
   if (name == "all") {
-    std::vector<int> all(mesh_.num_nodes());
-    for (int i = 0; i < mesh_.num_nodes(); ++i)
+    std::vector<int> all(mesh.num_nodes());
+    for (int i = 0; i < mesh.num_nodes(); ++i)
       all[i] = i;
     return all;
   }
-  auto it = mesh_.node_sets.find(name);
-  if (it == mesh_.node_sets.end()) {
+  auto it = mesh.node_sets.find(name);
+  if (it == mesh.node_sets.end()) {
     std::string msg = std::string(kStyle) + ": keyword '" + keyword + "': mesh '" + mesh_file_ +
                       "' has no physical group '" + name + "'; it has:";
-    for (const auto& kv : mesh_.node_sets)
+    for (const auto& kv : mesh.node_sets)
       msg += " " + kv.first;
     msg += " (and 'all')";
     error->all(FLERR, msg.c_str());
   }
   return it->second;
-}
-
-void FixFemBody::apply_initial_transforms()
-{
-  const int nn = mesh_.num_nodes();
-  for (const Transform& t : transforms_) {
-    for (int i = 0; i < nn; ++i) {
-      double* p = &mesh_.X[3 * i];
-      if (t.kind == Transform::Scale) {
-        for (int d = 0; d < 3; ++d)
-          p[d] *= t.a[0];
-      } else if (t.kind == Transform::Move) {
-        for (int d = 0; d < 3; ++d)
-          p[d] += t.a[d];
-      } else {
-        double q[3];
-        rotate_about_axis(t.a, t.a[3], p, q);
-        for (int d = 0; d < 3; ++d)
-          p[d] = q[d];
-      }
-    }
-  }
-  if (mesh_.dim == 2)
-    for (int i = 0; i < nn; ++i)
-      if (std::fabs(mesh_.X[3 * i + 2]) > 0)
-        error->all(FLERR,
-                   "fix fem/body: 2D mesh must stay in the z = 0 plane after 'move'/'rotate'");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -467,31 +433,35 @@ void FixFemBody::read_contact_properties()
   FixPropertyGlobal* nu = global("poissonsRatio", "peratomtype", ntypes, 0);
   FixPropertyGlobal* e = global("coefficientRestitution", "peratomtypepair", ntypes, ntypes);
   FixPropertyGlobal* mu = global("coefficientFriction", "peratomtypepair", ntypes, ntypes);
-  particle_E_.assign(ntypes + 1, 0);
-  particle_nu_.assign(ntypes + 1, 0);
-  particle_e_.assign(ntypes + 1, 0);
-  particle_mu_.assign(ntypes + 1, 0);
-  for (int t = 1; t <= ntypes; ++t) {
-    particle_E_[t] = E->compute_vector(t - 1);
-    particle_nu_[t] = nu->compute_vector(t - 1);
-    particle_e_[t] = e->compute_array(t - 1, surface_type_ - 1);
-    particle_mu_[t] = mu->compute_array(t - 1, surface_type_ - 1);
-  }
-  surface_E_ = particle_E_[surface_type_];
-  surface_nu_ = particle_nu_[surface_type_];
+  double char_vel = 1.0;
   if (normal_model_ == fracdem::NormalModel::Hooke) {
     Fix* cv = modify->find_fix_property("characteristicVelocity", "property/global", "scalar", 0, 0,
                                         style);
-    char_vel_ = static_cast<FixPropertyGlobal*>(cv)->compute_scalar();
+    char_vel = static_cast<FixPropertyGlobal*>(cv)->compute_scalar();
   }
+  // The surface's own compliance enters only where the law carries it (rigid bodies by default).
+  const double surface_E = compliance_combined_ ? E->compute_vector(surface_type_ - 1) : 0.0;
+  const double surface_nu = compliance_combined_ ? nu->compute_vector(surface_type_ - 1) : 0.0;
+  std::vector<fracdem::ContactMaterial> per_type(ntypes + 1);
+  for (int t = 1; t <= ntypes; ++t)
+    per_type[t] = fracdem::mix_materials(
+        E->compute_vector(t - 1), nu->compute_vector(t - 1), surface_E, surface_nu,
+        e->compute_array(t - 1, surface_type_ - 1), mu->compute_array(t - 1, surface_type_ - 1),
+        char_vel, normal_model_, tangential_history_);
+  contact_.set_materials(std::move(per_type));
 }
 
 void FixFemBody::init()
 {
-  read_contact_properties();
+  fracdem::ParticleFacetOptions opt;
+  opt.model = normal_model_;
+  opt.tangential_history = tangential_history_;
+  opt.hertz_patch =
+      !rigid_ && !compliance_combined_ && normal_model_ == fracdem::NormalModel::Hertz;
   buffer_ = buffer_ >= 0 ? buffer_ : neighbor->skin;
-  search_ = std::make_unique<fracdem::BufferedSearch>(buffer_);
-  search_stale_ = true;
+  opt.buffer = buffer_;
+  contact_.configure(opt);
+  read_contact_properties();
 
   gravity_[0] = gravity_[1] = gravity_[2] = 0;
   if (apply_gravity_ && !rigid_) {
@@ -520,7 +490,7 @@ void FixFemBody::reset_dt()
 void FixFemBody::check_time_step()
 {
   if (rigid_) return;
-  dt_stable_ = space_.stable_time_step(mesh_, x_.data());
+  dt_stable_ = body_.stable_time_step();
   const double dt = update->dt;
   if (comm->me == 0) {
     char line[256];
@@ -549,27 +519,19 @@ void FixFemBody::setup(int /*vflag*/)
 {
   if (!initial_velocity_applied_ && !restarted_state_) {
     for (const auto& s : initial_velocity_)
-      for (int n : node_set(s.set, "velocity"))
-        for (int d = 0; d < 3; ++d)
-          v_[3 * n + d] = s.v[d];
-    for (int n = 0; n < mesh_.num_nodes(); ++n)
-      if (node_fixed_[n] == 1)
-        for (int d = 0; d < 3; ++d)
-          v_[3 * n + d] = 0;
-      else if (node_fixed_[n] == 2)
-        for (int d = 0; d < 3; ++d)
-          v_[3 * n + d] = v_prescribed_[3 * n + d];
+      body_.set_velocity(node_set(s.set, "velocity"), s.v);
+    body_.impose_velocity_conditions();
   }
   initial_velocity_applied_ = true;
-  if (rigid_) prescribed_motion(time_, x_.data(), v_.data());
-  search_stale_ = true;
+  if (rigid_) body_.move_rigid();
+  contact_.invalidate_search();
   compute_forces();
   if (energy_fp_ && update->ntimestep % energy_every_ == 0) write_energy_row();
 }
 
 void FixFemBody::pre_neighbor()
 {
-  search_stale_ = true;
+  contact_.invalidate_search();
 }
 
 /* ----------------------------------------------------------------------
@@ -579,30 +541,11 @@ void FixFemBody::pre_neighbor()
 
 void FixFemBody::initial_integrate(int /*vflag*/)
 {
-  const double dt = update->dt;
-  time_ += dt;
-  if (rigid_) {
-    prescribed_motion(time_, x_.data(), v_.data());
-    return;
-  }
-  const int nn = mesh_.num_nodes();
-  const double half = 0.5 * dt;
-  for (int n = 0; n < nn; ++n) {
-    double* v = &v_[3 * n];
-    double* x = &x_[3 * n];
-    if (node_fixed_[n] == 0) {
-      const double s = half * inv_mass_[n];
-      const double* f = &f_[3 * n];
-      v[0] += s * f[0];
-      v[1] += s * f[1];
-      v[2] += s * f[2];
-    } else if (node_fixed_[n] == 1) {
-      continue;
-    }
-    x[0] += dt * v[0];
-    x[1] += dt * v[1];
-    x[2] += dt * v[2];
-  }
+  body_.advance_time(update->dt);
+  if (rigid_)
+    body_.move_rigid();
+  else
+    body_.half_kick_drift(update->dt);
 }
 
 void FixFemBody::post_force(int /*vflag*/)
@@ -613,45 +556,55 @@ void FixFemBody::post_force(int /*vflag*/)
 void FixFemBody::final_integrate()
 {
   if (rigid_) return;
-  const double half = 0.5 * update->dt;
-  const int nn = mesh_.num_nodes();
-  for (int n = 0; n < nn; ++n) {
-    if (node_fixed_[n]) continue;
-    const double s = half * inv_mass_[n];
-    const double* f = &f_[3 * n];
-    double* v = &v_[3 * n];
-    v[0] += s * f[0];
-    v[1] += s * f[1];
-    v[2] += s * f[2];
-  }
+  body_.half_kick(update->dt);
   if (energy_fp_ && update->ntimestep % energy_every_ == 0) write_energy_row();
+}
+
+fracdem::ParticleArrays FixFemBody::particle_arrays() const
+{
+  fracdem::ParticleArrays p;
+  p.n = atom->nlocal;
+  p.x = atom->x;
+  p.v = atom->v;
+  p.omega = atom->omega;
+  p.f = atom->f;
+  p.torque = atom->torque;
+  p.radius = atom->radius;
+  p.rmass = atom->rmass;
+  p.type = atom->type;
+  p.mask = atom->mask;
+  p.groupbit = groupbit;
+  p.history = history_;
+  p.slots = nslots_;
+  return p;
 }
 
 void FixFemBody::compute_forces()
 {
-  const int nn = mesh_.num_nodes();
-  std::fill(f_.begin(), f_.end(), 0.0);
-  std::fill(f_contact_.begin(), f_contact_.end(), 0.0);
+  const int nn = body_.num_nodes();
+  body_.begin_forces();
 
-  // Local shares: internal forces of this rank's elements, contact forces of
-  // this rank's particles; one reduction makes every replica identical.
-  double local_energy = 0;
+  // Local shares: internal forces of this rank's elements, contact forces of this rank's
+  // particles; one reduction makes every replica identical.
   int first_inverted = -1;
-  if (!rigid_)
-    local_energy = space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(),
-                                              nullptr, &first_inverted);
-  int local_contacts = 0;
-  contact_forces(f_contact_.data(), local_contacts);
+  const double local_energy = body_.add_internal_forces(&first_inverted);
+  const fracdem::ParticleFacetResult res =
+      contact_.evaluate(particle_arrays(), body_.mesh().X.data(), body_.positions().data(),
+                        body_.velocities().data(), update->dt, body_.contact_forces());
+  if (res.history_exhausted && !warned_slots_) {
+    error->warning(FLERR, "fix fem/body: a particle has more simultaneous facet contacts than "
+                          "'history_slots'; extra contacts run without tangential history");
+    warned_slots_ = true;
+  }
 
-  double scalars[3] = {local_energy, static_cast<double>(local_contacts),
+  double scalars[3] = {local_energy, static_cast<double>(res.contacts),
                        static_cast<double>(first_inverted >= 0 ? first_inverted + 1 : 0)};
   if (comm->nprocs > 1) {
-    MPI_Allreduce(MPI_IN_PLACE, f_.data(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, f_contact_.data(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(MPI_IN_PLACE, body_.forces_data(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
     MPI_Allreduce(MPI_IN_PLACE, scalars, 2, MPI_DOUBLE, MPI_SUM, world);
     MPI_Allreduce(MPI_IN_PLACE, &scalars[2], 1, MPI_DOUBLE, MPI_MAX, world);
   }
-  strain_energy_ = scalars[0];
   ncontacts_ = static_cast<int>(scalars[1]);
   if (scalars[2] > 0) {
     char msg[256];
@@ -661,7 +614,7 @@ void FixFemBody::compute_forces()
              id, static_cast<int>(scalars[2]) - 1, update->ntimestep);
     error->all(FLERR, msg);
   }
-  if (!std::isfinite(strain_energy_)) {
+  if (!std::isfinite(scalars[0])) {
     char msg[256];
     snprintf(msg, sizeof(msg),
              "fix fem/body %s: non-finite strain energy at step " BIGINT_FORMAT
@@ -669,438 +622,48 @@ void FixFemBody::compute_forces()
              id, update->ntimestep);
     error->all(FLERR, msg);
   }
-
-  // Work of contact forces on the body over the last step (trapezoidal rule,
-  // v holds the mid-step velocity here).
-  const double dt = update->dt;
-  double dw_contact = 0, dw_gravity = 0;
-  contact_force_total_[0] = contact_force_total_[1] = contact_force_total_[2] = 0;
-  for (int n = 0; n < nn; ++n) {
-    for (int d = 0; d < 3; ++d) {
-      const int k = 3 * n + d;
-      dw_contact += 0.5 * (f_contact_[k] + f_contact_prev_[k]) * v_[k];
-      contact_force_total_[d] += f_contact_[k];
-      f_[k] += f_contact_[k];
-    }
-  }
-  if (!rigid_) {
-    const double g2 =
-        gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2];
-    if (g2 > 0)
-      for (int n = 0; n < nn; ++n)
-        for (int d = 0; d < 3; ++d) {
-          f_[3 * n + d] += mass_[n] * gravity_[d];
-          dw_gravity += mass_[n] * gravity_[d] * v_[3 * n + d];
-        }
-  }
-  if (update->setupflag == 0) {
-    contact_work_ += dt * dw_contact;
-    external_work_ += dt * dw_gravity;
-  }
-  std::swap(f_contact_prev_, f_contact_);
-  // f_contact_prev_ now holds this step's contact forces; f_contact_ is scratch.
-  for (int n = 0; n < nn; ++n)
-    if (node_fixed_[n])
-      for (int d = 0; d < 3; ++d)
-        f_[3 * n + d] = 0;
-}
-
-/* ----------------------------------------------------------------------
-   particle-facet contact for the particles this rank owns
-------------------------------------------------------------------------- */
-
-void FixFemBody::rebuild_search()
-{
-  const int nlocal = atom->nlocal;
-  search_atoms_.clear();
-  search_sphere_.clear();
-  for (int i = 0; i < nlocal; ++i) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    search_atoms_.push_back(i);
-    search_sphere_.insert(search_sphere_.end(),
-                          {atom->x[i][0], atom->x[i][1], atom->x[i][2], atom->radius[i]});
-  }
-  std::vector<fracdem::Aabb> boxes(facets_.size());
-  for (size_t k = 0; k < facets_.size(); ++k) {
-    fracdem::Aabb& b = boxes[k];
-    for (int d = 0; d < 3; ++d) {
-      b.lo[d] = std::numeric_limits<double>::max();
-      b.hi[d] = -std::numeric_limits<double>::max();
-    }
-    for (int j = 0; j < facets_[k].nn; ++j) {
-      const double* p = &x_[3 * facets_[k].n[j]];
-      for (int d = 0; d < 3; ++d) {
-        b.lo[d] = std::min(b.lo[d], p[d]);
-        b.hi[d] = std::max(b.hi[d], p[d]);
-      }
-    }
-  }
-  search_->build(boxes, search_sphere_.data(), static_cast<int>(search_atoms_.size()));
-  std::vector<double> sx(3 * search_atoms_.size());
-  for (size_t s = 0; s < search_atoms_.size(); ++s)
-    for (int d = 0; d < 3; ++d)
-      sx[3 * s + d] = search_sphere_[4 * s + d];
-  search_->remember_positions(x_.data(), mesh_.num_nodes(), sx.data(),
-                              static_cast<int>(search_atoms_.size()));
-  search_stale_ = false;
-  ++nrebuilds_;
-}
-
-bool FixFemBody::search_is_stale()
-{
-  if (search_stale_) return true;
-  std::vector<double> sx(3 * search_atoms_.size());
-  for (size_t s = 0; s < search_atoms_.size(); ++s)
-    for (int d = 0; d < 3; ++d)
-      sx[3 * s + d] = atom->x[search_atoms_[s]][d];
-  return search_->needs_rebuild(x_.data(), mesh_.num_nodes(), sx.data(),
-                                static_cast<int>(search_atoms_.size()));
-}
-
-void FixFemBody::contact_forces(double* f_contact, int& ncontacts)
-{
-  ncontacts = 0;
-  if (facets_.empty()) return;
-  // The search covers only this rank's particles against the replicated body,
-  // so each rank decides on its own when to rebuild (no collective needed).
-  if (search_is_stale()) rebuild_search();
-
-  double** x = atom->x;
-  double** v = atom->v;
-  double** omega = atom->omega;
-  double** f = atom->f;
-  double** torque = atom->torque;
-  const double* radius = atom->radius;
-  const double* rmass = atom->rmass;
-  const int* type = atom->type;
-  const double dt = update->dt;
-
-  const auto& cand = search_->candidates();
-  // Per-particle work of this step, read by the load balancer (fix balance/graph).
-  facet_checks_.assign(atom->nlocal, 0);
-  facet_contacts_.assign(atom->nlocal, 0);
-  std::vector<fracdem::FacetHit> hits;
-  size_t c = 0;
-  std::vector<char> touched(nslots_);
-  while (c < cand.size()) {
-    const int s = cand[c].first;
-    const int i = search_atoms_[s];
-    hits.clear();
-    const double r = radius[i];
-    for (; c < cand.size() && cand[c].first == s; ++c) {
-      const fracdem::Facet& fc = facets_[cand[c].second];
-      fracdem::FacetHit h;
-      h.facet = cand[c].second;
-      h.nn = fc.nn;
-      for (int j = 0; j < 3; ++j)
-        h.nodes[j] = fc.n[j];
-      if (fc.nn == 3)
-        h.cp = fracdem::closest_point_triangle(x[i], &x_[3 * fc.n[0]], &x_[3 * fc.n[1]],
-                                               &x_[3 * fc.n[2]]);
-      else
-        h.cp = fracdem::closest_point_segment(x[i], &x_[3 * fc.n[0]], &x_[3 * fc.n[1]]);
-      if (h.cp.dist2 < r * r) hits.push_back(h);
-      ++facet_checks_[i];
-    }
-
-    // Forget history of contacts that ended.
-    double* hist = history_ ? history_[i] : nullptr;
-    if (hits.empty()) {
-      if (hist)
-        for (int k = 0; k < nslots_; ++k)
-          hist[k * kSlotDoubles] = hist[k * kSlotDoubles + 1] = -1;
-      continue;
-    }
-    hits = fracdem::resolve_sphere_hits(std::move(hits), x[i], x_.data(), topology_);
-    facet_contacts_[i] += static_cast<int>(hits.size());
-
-    const int ti = type[i];
-    fracdem::ContactMaterial mat = fracdem::mix_materials(
-        particle_E_[ti], particle_nu_[ti], compliance_combined_ ? surface_E_ : 0.0,
-        compliance_combined_ ? surface_nu_ : 0.0, particle_e_[ti], particle_mu_[ti], char_vel_,
-        normal_model_, tangential_history_);
-
-    // Normal and overlap of every kept hit.
-    const int nh = static_cast<int>(hits.size());
-    normals_.resize(3 * nh);
-    overlaps_.resize(nh);
-    for (int k = 0; k < nh; ++k) {
-      const fracdem::FacetHit& h = hits[k];
-      const double dist = std::sqrt(h.cp.dist2);
-      double* nk = &normals_[3 * k];
-      if (dist > 1e-12 * r) {
-        for (int d = 0; d < 3; ++d)
-          nk[d] = (x[i][d] - h.cp.p[d]) / dist;
-      } else {
-        // Centre on the surface: fall back to the facet normal.
-        const double* a = &x_[3 * h.nodes[0]];
-        const double* b = &x_[3 * h.nodes[1]];
-        double nrm[3];
-        if (h.nn == 3) {
-          const double* cc = &x_[3 * h.nodes[2]];
-          double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-          double e2[3] = {cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]};
-          nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-          nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-          nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        } else {
-          nrm[0] = b[1] - a[1];
-          nrm[1] = a[0] - b[0];
-          nrm[2] = 0;
-        }
-        const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-        for (int d = 0; d < 3; ++d)
-          nk[d] = nrm[d] / l;
-      }
-      overlaps_[k] = r - dist;
-    }
-
-    std::fill(touched.begin(), touched.end(), 0);
-    for (const std::vector<int>& cluster :
-         fracdem::cluster_hits(normals_.data(), overlaps_.data(), nh)) {
-      // One contact per cluster, evaluated at the deepest hit; its reaction is shared among the
-      // cluster's facets in proportion to overlap^1.5 (their Hertz weights).
-      const fracdem::FacetHit& lead = hits[cluster[0]];
-      double wsum = 0;
-      for (int k : cluster)
-        wsum += std::pow(overlaps_[k], 1.5);
-      fracdem::ContactInput in;
-      for (int d = 0; d < 3; ++d)
-        in.n[d] = normals_[3 * cluster[0] + d];
-      in.delta = overlaps_[cluster[0]];
-      in.radius = r;
-      in.mass = rmass[i];
-      in.dt = dt;
-      double vsurf[3] = {0, 0, 0};
-      for (int k : cluster) {
-        const double share = std::pow(overlaps_[k], 1.5) / wsum;
-        const fracdem::FacetHit& h = hits[k];
-        for (int j = 0; j < h.nn; ++j)
-          for (int d = 0; d < 3; ++d)
-            vsurf[d] += share * h.cp.w[j] * v_[3 * h.nodes[j] + d];
-      }
-      for (int d = 0; d < 3; ++d) {
-        in.v_rel[d] = v[i][d] - vsurf[d];
-        in.omega[d] = omega[i][d];
-      }
-      double scratch[3] = {0, 0, 0};
-      double* shear = scratch;
-      if (tangential_history_ && hist) {
-        double* slot = history_slot_find(i, fracdem::feature_key(lead), true);
-        if (slot) {
-          shear = slot + 2;
-          touched[(slot - hist) / kSlotDoubles] = 1;
-        }
-      }
-      // On a deformable body carrying its own compliance, a resolved contact gets Hertz's contact
-      // radius from the total approach and spreads its reaction as Hertz pressure over the
-      // contact disc; an unresolved one (disc smaller than the mesh) stays a point contact.
-      bool spread = false;
-      if (!rigid_ && !compliance_combined_ && normal_model_ == fracdem::NormalModel::Hertz)
-        spread = hertz_contact_patch(lead, in, r);
-      fracdem::ContactOutput out = fracdem::particle_surface_force(mat, in, shear);
-      for (int d = 0; d < 3; ++d) {
-        f[i][d] += out.force[d];
-        torque[i][d] += out.torque[d];
-      }
-      if (spread) {
-        for (size_t k = 0; k < patch_.nodes.size(); ++k)
-          for (int d = 0; d < 3; ++d)
-            f_contact[3 * patch_.nodes[k] + d] -= patch_weights_[k] * out.force[d];
-        ++ncontacts;
-        continue;
-      }
-      // Reaction on the facet nodes by share x barycentric weight: the weights sum to one, so
-      // the pair's linear momentum balance holds to round-off.
-      for (int k : cluster) {
-        const double share = std::pow(overlaps_[k], 1.5) / wsum;
-        const fracdem::FacetHit& h = hits[k];
-        for (int j = 0; j < h.nn; ++j)
-          for (int d = 0; d < 3; ++d)
-            f_contact[3 * h.nodes[j] + d] -= share * h.cp.w[j] * out.force[d];
-      }
-      ++ncontacts;
-    }
-    if (hist)
-      for (int k = 0; k < nslots_; ++k)
-        if (!touched[k]) hist[k * kSlotDoubles] = hist[k * kSlotDoubles + 1] = -1;
-  }
-}
-
-bool FixFemBody::hertz_contact_patch(const fracdem::FacetHit& lead, fracdem::ContactInput& in,
-                                     double radius)
-{
-  // Displacement into the body (along -n) at the contact point and around it.
-  const double* X = mesh_.X.data();
-  auto into_body = [&](int v) {
-    double u = 0;
-    for (int d = 0; d < 3; ++d)
-      u -= (x_[3 * v + d] - X[3 * v + d]) * in.n[d];
-    return u;
-  };
-  double u_c = 0;
-  for (int j = 0; j < lead.nn; ++j)
-    u_c += lead.cp.w[j] * into_body(lead.nodes[j]);
-  // The patch must reach the ring [1.5 a, 3.5 a] of the largest plausible contact radius; two
-  // passes: the ring of the point-law radius first, then of the radius that gives.
-  double a = std::sqrt(radius * in.delta);
-  double delta_b = 0;
-  for (int pass = 0; pass < 2; ++pass) {
-    fracdem::gather_surface_patch(topology_, x_.data(), lead.nodes, lead.nn, lead.cp.p, in.n,
-                                  3.6 * std::sqrt(2 * radius * (in.delta + delta_b)), patch_);
-    for (int v : patch_.nodes)
-      indentation_disp_[v] = into_body(v);
-    delta_b = fracdem::local_indentation(radius, in.delta, u_c, indentation_disp_, patch_);
-    a = std::sqrt(radius * (in.delta + delta_b));
-  }
-  if (!fracdem::hertz_pressure_weights(patch_, node_area_, a, patch_weights_)) return false;
-  in.contact_radius = a;
-  return true;
-}
-
-void FixFemBody::rebuild_surface()
-{
-  facets_ = fracdem::boundary_facets(mesh_);
-  topology_.build(facets_, mesh_.num_nodes());
-  // Surface area per node in the reference configuration (a third of each triangle, half of
-  // each 2D edge): the weights of a pressure spread over the nodes.
-  node_area_.assign(mesh_.num_nodes(), 0.0);
-  const double* X = mesh_.X.data();
-  for (const fracdem::Facet& fc : facets_) {
-    const double* a = &X[3 * fc.n[0]];
-    const double* b = &X[3 * fc.n[1]];
-    double size;
-    if (fc.nn == 3) {
-      const double* c = &X[3 * fc.n[2]];
-      const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-      const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                            e1[0] * e2[1] - e1[1] * e2[0]};
-      size = 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    } else {
-      size = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
-    }
-    for (int j = 0; j < fc.nn; ++j)
-      node_area_[fc.n[j]] += size / fc.nn;
-  }
-  indentation_disp_.assign(mesh_.num_nodes(), 0.0);
-}
-
-double* FixFemBody::history_slot_find(int i, std::uint64_t key, bool create)
-{
-  double* hist = history_[i];
-  const double hi = static_cast<double>(key >> 32), lo = static_cast<double>(key & 0xffffffffu);
-  int free_slot = -1;
-  for (int k = 0; k < nslots_; ++k) {
-    double* s = hist + k * kSlotDoubles;
-    if (s[0] == hi && s[1] == lo) return s;
-    if (free_slot < 0 && s[0] < 0) free_slot = k;
-  }
-  if (!create) return nullptr;
-  if (free_slot < 0) {
-    if (!warned_slots_) {
-      error->warning(FLERR, "fix fem/body: a particle has more simultaneous facet contacts than "
-                            "'history_slots'; extra contacts run without tangential history");
-      warned_slots_ = true;
-    }
-    return nullptr;
-  }
-  double* s = hist + free_slot * kSlotDoubles;
-  s[0] = hi;
-  s[1] = lo;
-  s[2] = s[3] = s[4] = 0;
-  return s;
+  body_.finish_forces(scalars[0], gravity_, update->dt, update->setupflag == 0);
 }
 
 /* ---------------------------------------------------------------------- */
 
-void FixFemBody::prescribed_motion(double t, double* x, double* v) const
-{
-  const int nn = mesh_.num_nodes();
-  const double* X = mesh_.X.data();
-  if (motion_ == MotionKind::None) {
-    std::copy(X, X + 3 * nn, x);
-    std::fill(v, v + 3 * nn, 0.0);
-  } else if (motion_ == MotionKind::Linear) {
-    for (int n = 0; n < nn; ++n)
-      for (int d = 0; d < 3; ++d) {
-        x[3 * n + d] = X[3 * n + d] + motion_vel_[d] * t;
-        v[3 * n + d] = motion_vel_[d];
-      }
-  } else {
-    const double w = 2 * M_PI / motion_period_;
-    const double* k = motion_axis_;
-    for (int n = 0; n < nn; ++n) {
-      double p[3], q[3];
-      for (int d = 0; d < 3; ++d)
-        p[d] = X[3 * n + d] - motion_origin_[d];
-      rotate_about_axis(k, w * t, p, q);
-      for (int d = 0; d < 3; ++d)
-        x[3 * n + d] = motion_origin_[d] + q[d];
-      v[3 * n + 0] = w * (k[1] * q[2] - k[2] * q[1]);
-      v[3 * n + 1] = w * (k[2] * q[0] - k[0] * q[2]);
-      v[3 * n + 2] = w * (k[0] * q[1] - k[1] * q[0]);
-    }
-  }
-}
-
-double FixFemBody::kinetic_energy() const
-{
-  if (rigid_) return 0.0;
-  double ke = 0;
-  const int nn = mesh_.num_nodes();
-  for (int n = 0; n < nn; ++n) {
-    const double* v = &v_[3 * n];
-    ke += 0.5 * mass_[n] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  }
-  return ke;
-}
-
 double FixFemBody::compute_scalar()
 {
-  return kinetic_energy() + strain_energy_;
+  return body_.kinetic_energy() + body_.strain_energy();
 }
 
 double FixFemBody::compute_vector(int i)
 {
   switch (i) {
   case kKinetic:
-    return kinetic_energy();
+    return body_.kinetic_energy();
   case kStrain:
-    return strain_energy_;
+    return body_.strain_energy();
   case kExternalWork:
-    return external_work_;
+    return body_.external_work();
   case kContactWork:
-    return contact_work_;
+    return body_.contact_work();
   case kNodes:
-    return mesh_.num_nodes();
+    return body_.num_nodes();
   case kElements:
-    return mesh_.num_active_elems();
+    return body_.mesh().num_active_elems();
   case kContacts:
     return ncontacts_;
   case kForceX:
-    return contact_force_total_[0];
   case kForceY:
-    return contact_force_total_[1];
   case kForceZ:
-    return contact_force_total_[2];
+    return body_.contact_force_total()[i - kForceX];
   case kStableDt:
     return dt_stable_;
   case kSearchRebuilds: {
-    double local = nrebuilds_, total = 0;
+    double local = contact_.search_rebuilds(), total = 0;
     MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
     return total;
   }
   case kMomentumX:
   case kMomentumY:
-  case kMomentumZ: {
-    if (rigid_) return 0.0;
-    const int d = i - kMomentumX;
-    double p = 0;
-    for (int n = 0; n < mesh_.num_nodes(); ++n)
-      p += mass_[n] * v_[3 * n + d];
-    return p;
-  }
+  case kMomentumZ:
+    return body_.momentum(i - kMomentumX);
   }
   return 0.0;
 }
@@ -1109,35 +672,24 @@ void FixFemBody::write_energy_row()
 {
   if (update->ntimestep == last_energy_step_) return; // a new run starts where the last ended
   last_energy_step_ = update->ntimestep;
-  const double ke = kinetic_energy();
+  const double ke = body_.kinetic_energy(), se = body_.strain_energy();
   fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d\n",
-          update->ntimestep, time_, ke, strain_energy_, external_work_, contact_work_,
-          ke + strain_energy_, mesh_.num_nodes(), mesh_.num_active_elems());
+          update->ntimestep, body_.time(), ke, se, body_.external_work(), body_.contact_work(),
+          ke + se, body_.num_nodes(), body_.mesh().num_active_elems());
   fflush(energy_fp_);
 }
 
 /* ----------------------------------------------------------------------
    restart: the mesh is re-read from the same file when the input script
-   re-creates the fix; the global state (positions, velocities, activity,
-   time, energy accounts) is restored from the restart file.
+   re-creates the fix; the body's state, topology included, is restored
+   from the restart file.
 ------------------------------------------------------------------------- */
 
 void FixFemBody::write_restart(FILE* fp)
 {
   if (comm->me != 0) return;
-  const int nn = mesh_.num_nodes(), ne = mesh_.num_elems();
   std::vector<double> buf;
-  buf.reserve(8 + 6 * nn + ne);
-  buf.push_back(1.0); // format version
-  buf.push_back(nn);
-  buf.push_back(ne);
-  buf.push_back(time_);
-  buf.push_back(external_work_);
-  buf.push_back(contact_work_);
-  buf.insert(buf.end(), x_.begin(), x_.end());
-  buf.insert(buf.end(), v_.begin(), v_.end());
-  for (int e = 0; e < ne; ++e)
-    buf.push_back(mesh_.active[e]);
+  body_.pack_state(buf);
   // The host reads the size in bytes, then that many bytes.
   const int nbytes = static_cast<int>(buf.size() * sizeof(double));
   fwrite(&nbytes, sizeof(int), 1, fp);
@@ -1146,26 +698,14 @@ void FixFemBody::write_restart(FILE* fp)
 
 void FixFemBody::restart(char* raw)
 {
-  const double* buf = reinterpret_cast<const double*>(raw);
-  const int nn = mesh_.num_nodes(), ne = mesh_.num_elems();
-  if (static_cast<int>(buf[1]) != nn || static_cast<int>(buf[2]) != ne) {
-    char msg[256];
-    snprintf(msg, sizeof(msg),
-             "fix fem/body %s: restart file holds a body with %d nodes / %d elements but mesh '%s' "
-             "has %d / %d; use the same mesh file and transforms as the run that wrote it",
-             id, static_cast<int>(buf[1]), static_cast<int>(buf[2]), mesh_file_.c_str(), nn, ne);
-    error->all(FLERR, msg);
+  try {
+    body_.unpack_state(reinterpret_cast<const double*>(raw));
+  } catch (const std::exception& e) {
+    std::string msg = std::string(kStyle) + " " + id + ": " + e.what() + " (mesh '" + mesh_file_ +
+                      "'); use the same mesh file and transforms as the run that wrote it";
+    error->all(FLERR, msg.c_str());
   }
-  time_ = buf[3];
-  external_work_ = buf[4];
-  contact_work_ = buf[5];
-  const double* p = buf + 6;
-  std::copy(p, p + 3 * nn, x_.begin());
-  std::copy(p + 3 * nn, p + 6 * nn, v_.begin());
-  p += 6 * nn;
-  for (int e = 0; e < ne; ++e)
-    mesh_.active[e] = p[e] != 0.0;
-  rebuild_surface();
+  contact_.rebuild_surface(body_.mesh());
   restarted_state_ = true;
 }
 
@@ -1237,8 +777,7 @@ int FixFemBody::maxsize_restart()
 
 double FixFemBody::memory_usage()
 {
-  double bytes = sizeof(double) * (x_.size() + v_.size() + f_.size() + mass_.size() +
-                                   f_contact_.size() + f_contact_prev_.size());
+  double bytes = sizeof(double) * 15 * body_.num_nodes();
   bytes += sizeof(double) * nmax_atoms_ * nslots_ * kSlotDoubles;
   return bytes;
 }

@@ -2,7 +2,6 @@
 // hit.
 #pragma once
 
-#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -10,13 +9,8 @@
 
 #include "fix.h"
 
-#include "contact/contact_resolution.h"
-#include "contact/contact_spread.h"
-#include "contact/contact_search.h"
-#include "contact/granular_law.h"
-#include "fem/fe_space.h"
-#include "fem/material.h"
-#include "fem/mesh.h"
+#include "contact/particle_facet.h"
+#include "fem/body.h"
 
 namespace LAMMPS_NS
 {
@@ -55,43 +49,40 @@ public:
   double memory_usage() override;
 
   // Read access for output fixes (fix fem/vtk) and diagnostics.
-  const fracdem::Mesh& mesh() const { return mesh_; }
-  const fracdem::FeSpace& fe_space() const { return space_; }
-  const std::vector<double>& positions() const { return x_; }
-  const std::vector<double>& velocities() const { return v_; }
-  bool is_rigid() const { return rigid_; }
-  double body_time() const { return time_; }
+  const fracdem::Body& body() const { return body_; }
+  const fracdem::Mesh& mesh() const { return body_.mesh(); }
+  const fracdem::FeSpace& fe_space() const { return body_.space(); }
+  const std::vector<double>& positions() const { return body_.positions(); }
+  const std::vector<double>& velocities() const { return body_.velocities(); }
+  bool is_rigid() const { return body_.rigid(); }
+  double body_time() const { return body_.time(); }
   // Facet checks and resolved facet contacts per local particle in the last force evaluation
   // (empty when the body has no contact surface); the load balancer's cost input.
-  const std::vector<int>& facet_checks() const { return facet_checks_; }
-  const std::vector<int>& facet_contacts() const { return facet_contacts_; }
+  const std::vector<int>& facet_checks() const { return contact_.checks(); }
+  const std::vector<int>& facet_contacts() const { return contact_.contacts(); }
 
   // Number of doubles per history slot: feature key (two exact 32-bit halves) + shear[3].
-  static constexpr int kSlotDoubles = 5;
+  static constexpr int kSlotDoubles = fracdem::kHistorySlotDoubles;
 
 private:
   struct NodeVelocitySpec {
     std::string set;
     double v[3];
   };
-  enum class MotionKind { None, Linear, Rotate };
 
   // ---- set-up helpers ----
   void parse_arguments(int narg, char** arg);
+  void parse_motion(int narg, char** arg, int& iarg);
+  void check_arguments();
   void load_mesh();
-  void apply_initial_transforms();
+  void log_body();
   std::vector<int> node_set(const std::string& name, const char* keyword) const;
   void read_contact_properties();
   void check_time_step();
-  void prescribed_motion(double t, double* x, double* v) const;
 
   // ---- per-step work ----
   void compute_forces();
-  void contact_forces(double* f_contact, int& ncontacts);
-  void rebuild_search();
-  bool search_is_stale();
-  double* history_slot_find(int i, std::uint64_t key, bool create);
-  double kinetic_energy() const;
+  fracdem::ParticleArrays particle_arrays() const;
   void write_energy_row();
 
   // ---- arguments ----
@@ -100,16 +91,10 @@ private:
   fracdem::Material material_;
   bool have_density_ = false, have_youngs_ = false, have_poisson_ = false;
   bool rigid_ = false;
-  MotionKind motion_ = MotionKind::None;
-  double motion_vel_[3] = {0, 0, 0};
-  double motion_origin_[3] = {0, 0, 0}, motion_axis_[3] = {0, 0, 1}, motion_period_ = 0;
+  fracdem::RigidMotion motion_;
   std::vector<std::string> fixed_sets_;
   std::vector<NodeVelocitySpec> initial_velocity_, prescribed_velocity_;
-  struct Transform {
-    enum Kind { Scale, Move, Rotate } kind;
-    double a[4];
-  };
-  std::vector<Transform> transforms_;
+  std::vector<fracdem::MeshTransform> transforms_;
   fracdem::NormalModel normal_model_ = fracdem::NormalModel::Hertz;
   bool tangential_history_ = true;
   int compliance_combined_ = -1; // -1: default (combined for rigid, particle-only for deformable)
@@ -121,47 +106,20 @@ private:
   FILE* energy_fp_ = nullptr;
   bigint last_energy_step_ = -1;
 
-  // ---- body state (replicated on every rank) ----
-  fracdem::Mesh mesh_;
-  fracdem::FeSpace space_;
-  std::vector<double> x_, v_, f_, mass_, inv_mass_;
-  std::vector<double> f_contact_, f_contact_prev_;
-  std::vector<std::uint8_t> node_fixed_; // 0 free, 1 fixed, 2 prescribed velocity
-  std::vector<double> v_prescribed_;
-  int elem_begin_ = 0, elem_end_ = 0; // this rank's share of the element work
-  double time_ = 0;                   // body time since creation (prescribed motion)
-  double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0;
+  // ---- the body (replicated on every rank) and its contact surface ----
+  fracdem::Body body_;
+  fracdem::ParticleFacetContact contact_;
   double gravity_[3] = {0, 0, 0};
-  double contact_force_total_[3] = {0, 0, 0};
   int ncontacts_ = 0;
   double dt_stable_ = 0;
   bool initial_velocity_applied_ = false;
   bool restarted_state_ = false;
+  bool warned_slots_ = false;
 
-  // ---- contact ----
-  fracdem::ContactMaterial contact_material_;
-  std::vector<double> particle_E_, particle_nu_, particle_e_, particle_mu_; // per atom type
-  double surface_E_ = 0, surface_nu_ = 0, char_vel_ = 1.0;
-  std::vector<fracdem::Facet> facets_;
-  fracdem::SurfaceTopology topology_;
-  std::unique_ptr<fracdem::BufferedSearch> search_;
-  std::vector<int> search_atoms_;     // search sphere index -> local atom index
-  std::vector<double> search_sphere_; // x,y,z,r per search sphere at build time
-  bool search_stale_ = true;
-  std::vector<double> normals_, overlaps_; // per-hit scratch
-  std::vector<int> facet_checks_, facet_contacts_;
-  // Hertz contact on the resolved deformable surface (see hertz_contact_patch).
-  std::vector<double> node_area_, indentation_disp_, patch_weights_;
-  fracdem::SurfacePatch patch_;
-  void rebuild_surface();
-  bool hertz_contact_patch(const fracdem::FacetHit& lead, fracdem::ContactInput& in, double radius);
-  int nrebuilds_ = 0;
-
-  // ---- per-atom history ----
+  // ---- per-atom tangential history (rows of nslots_ records) ----
   int nslots_ = 8;
   double** history_ = nullptr; // [nmax][nslots_*kSlotDoubles]
   int nmax_atoms_ = 0;
-  bool warned_slots_ = false;
 };
 
 } // namespace LAMMPS_NS

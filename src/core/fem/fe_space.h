@@ -36,6 +36,11 @@ public:
   // rho * area * thickness (plane strain), rho * 2 pi * integral of r dA (axisymmetric, full ring,
   // r-weighted consistent row sums).
   void lumped_masses(const Mesh& mesh, std::vector<double>& m) const;
+  // Element e's contribution to the lumped masses of its nodes (node order of conn).
+  void element_nodal_masses(const Mesh& mesh, int e, double me[4]) const
+  {
+    element_masses(mesh, e, me);
+  }
 
   // Adds the restoring internal forces of active elements in [e_begin, e_end) into f (3 per node)
   // so that m a = f + f_ext. x: current coordinates (3 per node). Returns the strain energy of

@@ -1,0 +1,325 @@
+// Particle-facet contact pipeline: candidates, closest points, resolution, law, reaction spread.
+#include "contact/particle_facet.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "contact/geometry.h"
+
+namespace fracdem
+{
+
+double* history_slot(double* row, int slots, std::uint64_t key, bool create, bool* exhausted)
+{
+  const double hi = static_cast<double>(key >> 32), lo = static_cast<double>(key & 0xffffffffu);
+  int free_slot = -1;
+  for (int k = 0; k < slots; ++k) {
+    double* s = row + k * kHistorySlotDoubles;
+    if (s[0] == hi && s[1] == lo) return s;
+    if (free_slot < 0 && s[0] < 0) free_slot = k;
+  }
+  if (!create) return nullptr;
+  if (free_slot < 0) {
+    if (exhausted) *exhausted = true;
+    return nullptr;
+  }
+  double* s = row + free_slot * kHistorySlotDoubles;
+  s[0] = hi;
+  s[1] = lo;
+  s[2] = s[3] = s[4] = 0;
+  return s;
+}
+
+void clear_history_row(double* row, int slots)
+{
+  for (int k = 0; k < slots; ++k)
+    row[k * kHistorySlotDoubles] = row[k * kHistorySlotDoubles + 1] = -1;
+}
+
+void ParticleFacetContact::configure(const ParticleFacetOptions& options)
+{
+  opt_ = options;
+  search_ = std::make_unique<BufferedSearch>(opt_.buffer);
+  search_stale_ = true;
+}
+
+void ParticleFacetContact::rebuild_surface(const Mesh& mesh)
+{
+  nnodes_ = mesh.num_nodes();
+  facets_ = boundary_facets(mesh);
+  topology_.build(facets_, nnodes_);
+  // Surface area per node in the reference configuration (a third of each triangle, half of
+  // each 2D edge): the weights of a pressure spread over the nodes.
+  node_area_.assign(nnodes_, 0.0);
+  const double* X = mesh.X.data();
+  for (const Facet& fc : facets_) {
+    const double* a = &X[3 * fc.n[0]];
+    const double* b = &X[3 * fc.n[1]];
+    double size;
+    if (fc.nn == 3) {
+      const double* c = &X[3 * fc.n[2]];
+      const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+      const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
+      size = 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    } else {
+      size = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
+    }
+    for (int j = 0; j < fc.nn; ++j)
+      node_area_[fc.n[j]] += size / fc.nn;
+  }
+  indentation_disp_.assign(nnodes_, 0.0);
+  search_stale_ = true;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ParticleFacetContact::rebuild_search(const ParticleArrays& p, const double* x, int nnodes)
+{
+  search_atoms_.clear();
+  search_sphere_.clear();
+  for (int i = 0; i < p.n; ++i) {
+    if (!(p.mask[i] & p.groupbit)) continue;
+    search_atoms_.push_back(i);
+    search_sphere_.insert(search_sphere_.end(), {p.x[i][0], p.x[i][1], p.x[i][2], p.radius[i]});
+  }
+  std::vector<Aabb> boxes(facets_.size());
+  for (size_t k = 0; k < facets_.size(); ++k) {
+    Aabb& b = boxes[k];
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::numeric_limits<double>::max();
+      b.hi[d] = -std::numeric_limits<double>::max();
+    }
+    for (int j = 0; j < facets_[k].nn; ++j) {
+      const double* q = &x[3 * facets_[k].n[j]];
+      for (int d = 0; d < 3; ++d) {
+        b.lo[d] = std::min(b.lo[d], q[d]);
+        b.hi[d] = std::max(b.hi[d], q[d]);
+      }
+    }
+  }
+  const int ns = static_cast<int>(search_atoms_.size());
+  search_->build(boxes, search_sphere_.data(), ns);
+  sx_.resize(3 * ns);
+  for (int s = 0; s < ns; ++s)
+    for (int d = 0; d < 3; ++d)
+      sx_[3 * s + d] = search_sphere_[4 * s + d];
+  search_->remember_positions(x, nnodes, sx_.data(), ns);
+  search_stale_ = false;
+  ++nrebuilds_;
+}
+
+bool ParticleFacetContact::search_is_stale(const ParticleArrays& p, const double* x, int nnodes)
+{
+  if (search_stale_) return true;
+  const int ns = static_cast<int>(search_atoms_.size());
+  sx_.resize(3 * ns);
+  for (int s = 0; s < ns; ++s)
+    for (int d = 0; d < 3; ++d)
+      sx_[3 * s + d] = p.x[search_atoms_[s]][d];
+  return search_->needs_rebuild(x, nnodes, sx_.data(), ns);
+}
+
+ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, const double* X,
+                                                   const double* x, const double* v, double dt,
+                                                   double* f_nodes)
+{
+  ParticleFacetResult res;
+  if (facets_.empty()) return res;
+  // The search covers only this rank's particles against the replicated body, so each rank
+  // decides on its own when to rebuild (no collective needed).
+  if (search_is_stale(p, x, nnodes_)) rebuild_search(p, x, nnodes_);
+
+  // Per-particle work of this step, read by the load balancer (fix balance/graph).
+  checks_.assign(p.n, 0);
+  contacts_.assign(p.n, 0);
+  touched_.resize(p.slots);
+  const auto& cand = search_->candidates();
+  size_t c = 0;
+  while (c < cand.size()) {
+    const int i = search_atoms_[cand[c].first];
+    gather_hits(p, i, x, c);
+    double* hist = p.history ? p.history[i] : nullptr;
+    if (hits_.empty()) { // forget the history of contacts that ended
+      if (hist) clear_history_row(hist, p.slots);
+      continue;
+    }
+    hits_ = resolve_sphere_hits(std::move(hits_), p.x[i], x, topology_);
+    contacts_[i] += static_cast<int>(hits_.size());
+    res.contacts += particle_contacts(p, i, X, x, v, dt, f_nodes, res);
+  }
+  return res;
+}
+
+// Closest points of particle i on its candidate facets (starting at cand[c]); keeps the
+// overlapping ones in hits_ and advances c past the particle's candidates.
+void ParticleFacetContact::gather_hits(const ParticleArrays& p, int i, const double* x, size_t& c)
+{
+  const auto& cand = search_->candidates();
+  const int s = cand[c].first;
+  hits_.clear();
+  const double r = p.radius[i];
+  for (; c < cand.size() && cand[c].first == s; ++c) {
+    const Facet& fc = facets_[cand[c].second];
+    FacetHit h;
+    h.facet = cand[c].second;
+    h.nn = fc.nn;
+    for (int j = 0; j < 3; ++j)
+      h.nodes[j] = fc.n[j];
+    if (fc.nn == 3)
+      h.cp = closest_point_triangle(p.x[i], &x[3 * fc.n[0]], &x[3 * fc.n[1]], &x[3 * fc.n[2]]);
+    else
+      h.cp = closest_point_segment(p.x[i], &x[3 * fc.n[0]], &x[3 * fc.n[1]]);
+    if (h.cp.dist2 < r * r) hits_.push_back(h);
+    ++checks_[i];
+  }
+}
+
+// Unit normal (surface to centre q) and overlap of every kept hit.
+void ParticleFacetContact::hit_normals(const double q[3], double r, const double* x)
+{
+  const int nh = static_cast<int>(hits_.size());
+  normals_.resize(3 * nh);
+  overlaps_.resize(nh);
+  for (int k = 0; k < nh; ++k) {
+    const FacetHit& h = hits_[k];
+    const double dist = std::sqrt(h.cp.dist2);
+    double* nk = &normals_[3 * k];
+    if (dist > 1e-12 * r) {
+      for (int d = 0; d < 3; ++d)
+        nk[d] = (q[d] - h.cp.p[d]) / dist;
+    } else { // centre on the surface: the facet normal
+      const double* a = &x[3 * h.nodes[0]];
+      const double* b = &x[3 * h.nodes[1]];
+      double nrm[3];
+      if (h.nn == 3) {
+        const double* cc = &x[3 * h.nodes[2]];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double e2[3] = {cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]};
+        nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+      } else {
+        nrm[0] = b[1] - a[1];
+        nrm[1] = a[0] - b[0];
+        nrm[2] = 0;
+      }
+      const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+      for (int d = 0; d < 3; ++d)
+        nk[d] = nrm[d] / l;
+    }
+    overlaps_[k] = r - dist;
+  }
+}
+
+// The resolved hits of particle i as physical contacts: one per cluster of like normals,
+// evaluated at the deepest hit. Returns the number of contacts.
+int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, const double* X,
+                                            const double* x, const double* v, double dt,
+                                            double* f_nodes, ParticleFacetResult& res)
+{
+  const double r = p.radius[i];
+  const ContactMaterial& mat = materials_[p.type[i]];
+  hit_normals(p.x[i], r, x);
+  double* hist = p.history ? p.history[i] : nullptr;
+  std::fill(touched_.begin(), touched_.end(), 0);
+  int ncontacts = 0;
+  const int nh = static_cast<int>(hits_.size());
+  for (const std::vector<int>& cluster : cluster_hits(normals_.data(), overlaps_.data(), nh)) {
+    // The reaction is shared among the cluster's facets in proportion to overlap^1.5 (their
+    // Hertz weights).
+    const FacetHit& lead = hits_[cluster[0]];
+    double wsum = 0;
+    for (int k : cluster)
+      wsum += std::pow(overlaps_[k], 1.5);
+    ContactInput in;
+    for (int d = 0; d < 3; ++d)
+      in.n[d] = normals_[3 * cluster[0] + d];
+    in.delta = overlaps_[cluster[0]];
+    in.radius = r;
+    in.mass = p.rmass[i];
+    in.dt = dt;
+    double vsurf[3] = {0, 0, 0};
+    for (int k : cluster) {
+      const double share = std::pow(overlaps_[k], 1.5) / wsum;
+      const FacetHit& h = hits_[k];
+      for (int j = 0; j < h.nn; ++j)
+        for (int d = 0; d < 3; ++d)
+          vsurf[d] += share * h.cp.w[j] * v[3 * h.nodes[j] + d];
+    }
+    for (int d = 0; d < 3; ++d) {
+      in.v_rel[d] = p.v[i][d] - vsurf[d];
+      in.omega[d] = p.omega[i][d];
+    }
+    double scratch[3] = {0, 0, 0};
+    double* shear = scratch;
+    if (opt_.tangential_history && hist) {
+      double* slot = history_slot(hist, p.slots, feature_key(lead), true, &res.history_exhausted);
+      if (slot) {
+        shear = slot + 2;
+        touched_[(slot - hist) / kHistorySlotDoubles] = 1;
+      }
+    }
+    // An unresolved contact (disc smaller than the mesh) stays a point contact.
+    const bool spread = opt_.hertz_patch && hertz_contact_patch(lead, X, x, in, r);
+    const ContactOutput out = particle_surface_force(mat, in, shear);
+    for (int d = 0; d < 3; ++d) {
+      p.f[i][d] += out.force[d];
+      p.torque[i][d] += out.torque[d];
+    }
+    ++ncontacts;
+    if (spread) {
+      for (size_t k = 0; k < patch_.nodes.size(); ++k)
+        for (int d = 0; d < 3; ++d)
+          f_nodes[3 * patch_.nodes[k] + d] -= patch_weights_[k] * out.force[d];
+      continue;
+    }
+    // Reaction on the facet nodes by share x barycentric weight: the weights sum to one, so the
+    // pair's linear momentum balance holds to round-off.
+    for (int k : cluster) {
+      const double share = std::pow(overlaps_[k], 1.5) / wsum;
+      const FacetHit& h = hits_[k];
+      for (int j = 0; j < h.nn; ++j)
+        for (int d = 0; d < 3; ++d)
+          f_nodes[3 * h.nodes[j] + d] -= share * h.cp.w[j] * out.force[d];
+    }
+  }
+  if (hist)
+    for (int k = 0; k < p.slots; ++k)
+      if (!touched_[k]) hist[k * kHistorySlotDoubles] = hist[k * kHistorySlotDoubles + 1] = -1;
+  return ncontacts;
+}
+
+bool ParticleFacetContact::hertz_contact_patch(const FacetHit& lead, const double* X,
+                                               const double* x, ContactInput& in, double radius)
+{
+  // Displacement into the body (along -n) at the contact point and around it.
+  auto into_body = [&](int v) {
+    double u = 0;
+    for (int d = 0; d < 3; ++d)
+      u -= (x[3 * v + d] - X[3 * v + d]) * in.n[d];
+    return u;
+  };
+  double u_c = 0;
+  for (int j = 0; j < lead.nn; ++j)
+    u_c += lead.cp.w[j] * into_body(lead.nodes[j]);
+  // The patch must reach the ring [1.5 a, 3.5 a] of the largest plausible contact radius; two
+  // passes: the ring of the point-law radius first, then of the radius that gives.
+  double a = std::sqrt(radius * in.delta);
+  double delta_b = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    gather_surface_patch(topology_, x, lead.nodes, lead.nn, lead.cp.p, in.n,
+                         3.6 * std::sqrt(2 * radius * (in.delta + delta_b)), patch_);
+    for (int v : patch_.nodes)
+      indentation_disp_[v] = into_body(v);
+    delta_b = local_indentation(radius, in.delta, u_c, indentation_disp_, patch_);
+    a = std::sqrt(radius * (in.delta + delta_b));
+  }
+  if (!hertz_pressure_weights(patch_, node_area_, a, patch_weights_)) return false;
+  in.contact_radius = a;
+  return true;
+}
+
+} // namespace fracdem

@@ -1,0 +1,334 @@
+// The finite-element body: explicit update, force assembly, topology operations and restart state.
+#include "fem/body.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fracdem
+{
+
+void Body::build(Mesh mesh, const Material& material, bool rigid)
+{
+  mesh_ = std::move(mesh);
+  material_ = material;
+  rigid_ = rigid;
+  space_.build(mesh_, material_);
+  const int nn = mesh_.num_nodes();
+  resize_nodes(nn);
+  x_ = mesh_.X;
+  std::fill(parent_.begin(), parent_.end(), -1);
+  derive_masses();
+  elem_begin_ = 0;
+  elem_end_ = mesh_.num_elems();
+}
+
+void Body::resize_nodes(int nn)
+{
+  x_.resize(3 * nn, 0.0);
+  v_.resize(3 * nn, 0.0);
+  f_.resize(3 * nn, 0.0);
+  f_contact_.resize(3 * nn, 0.0);
+  f_contact_prev_.resize(3 * nn, 0.0);
+  v_prescribed_.resize(3 * nn, 0.0);
+  bc_.resize(nn, NodeBc::Free);
+  parent_.resize(nn, -1);
+  mass_.resize(nn, 0.0);
+  inv_mass_.resize(nn, 0.0);
+}
+
+void Body::derive_masses()
+{
+  space_.lumped_masses(mesh_, mass_);
+  inv_mass_.resize(mass_.size());
+  for (size_t i = 0; i < mass_.size(); ++i)
+    inv_mass_[i] = mass_[i] > 0 ? 1.0 / mass_[i] : 0.0;
+}
+
+void Body::set_element_range(int begin, int end)
+{
+  elem_begin_ = begin;
+  elem_end_ = end;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void Body::set_fixed(const std::vector<int>& nodes)
+{
+  for (int n : nodes)
+    bc_[n] = NodeBc::Fixed;
+}
+
+void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v[3])
+{
+  for (int n : nodes) {
+    bc_[n] = NodeBc::Prescribed;
+    for (int d = 0; d < 3; ++d)
+      v_prescribed_[3 * n + d] = v[d];
+  }
+}
+
+void Body::set_velocity(const std::vector<int>& nodes, const double v[3])
+{
+  for (int n : nodes)
+    for (int d = 0; d < 3; ++d)
+      v_[3 * n + d] = v[d];
+}
+
+void Body::impose_velocity_conditions()
+{
+  for (int n = 0; n < num_nodes(); ++n)
+    if (bc_[n] == NodeBc::Fixed)
+      for (int d = 0; d < 3; ++d)
+        v_[3 * n + d] = 0;
+    else if (bc_[n] == NodeBc::Prescribed)
+      for (int d = 0; d < 3; ++d)
+        v_[3 * n + d] = v_prescribed_[3 * n + d];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void Body::move_rigid()
+{
+  motion_.evaluate(time_, mesh_.X.data(), num_nodes(), x_.data(), v_.data());
+}
+
+void Body::half_kick_drift(double dt)
+{
+  const int nn = num_nodes();
+  const double half = 0.5 * dt;
+  for (int n = 0; n < nn; ++n) {
+    double* v = &v_[3 * n];
+    double* x = &x_[3 * n];
+    if (bc_[n] == NodeBc::Free) {
+      const double s = half * inv_mass_[n];
+      const double* f = &f_[3 * n];
+      v[0] += s * f[0];
+      v[1] += s * f[1];
+      v[2] += s * f[2];
+    } else if (bc_[n] == NodeBc::Fixed) {
+      continue;
+    }
+    x[0] += dt * v[0];
+    x[1] += dt * v[1];
+    x[2] += dt * v[2];
+  }
+}
+
+void Body::half_kick(double dt)
+{
+  const double half = 0.5 * dt;
+  const int nn = num_nodes();
+  for (int n = 0; n < nn; ++n) {
+    if (bc_[n] != NodeBc::Free) continue;
+    const double s = half * inv_mass_[n];
+    const double* f = &f_[3 * n];
+    double* v = &v_[3 * n];
+    v[0] += s * f[0];
+    v[1] += s * f[1];
+    v[2] += s * f[2];
+  }
+}
+
+void Body::begin_forces()
+{
+  std::fill(f_.begin(), f_.end(), 0.0);
+  std::fill(f_contact_.begin(), f_contact_.end(), 0.0);
+}
+
+double Body::add_internal_forces(int* first_inverted)
+{
+  if (rigid_) return 0.0;
+  return space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
+                                    first_inverted);
+}
+
+void Body::finish_forces(double strain_energy, const double gravity[3], double dt, bool count_work)
+{
+  strain_energy_ = strain_energy;
+  const int nn = num_nodes();
+  double dw_contact = 0, dw_gravity = 0;
+  contact_force_total_[0] = contact_force_total_[1] = contact_force_total_[2] = 0;
+  for (int n = 0; n < nn; ++n) {
+    for (int d = 0; d < 3; ++d) {
+      const int k = 3 * n + d;
+      dw_contact += 0.5 * (f_contact_[k] + f_contact_prev_[k]) * v_[k];
+      contact_force_total_[d] += f_contact_[k];
+      f_[k] += f_contact_[k];
+    }
+  }
+  if (!rigid_) {
+    const double g2 = gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2];
+    if (g2 > 0)
+      for (int n = 0; n < nn; ++n)
+        for (int d = 0; d < 3; ++d) {
+          f_[3 * n + d] += mass_[n] * gravity[d];
+          dw_gravity += mass_[n] * gravity[d] * v_[3 * n + d];
+        }
+  }
+  if (count_work) {
+    contact_work_ += dt * dw_contact;
+    external_work_ += dt * dw_gravity;
+  }
+  // f_contact_prev_ keeps this step's contact forces; f_contact_ becomes scratch.
+  std::swap(f_contact_prev_, f_contact_);
+  for (int n = 0; n < nn; ++n)
+    if (bc_[n] != NodeBc::Free)
+      for (int d = 0; d < 3; ++d)
+        f_[3 * n + d] = 0;
+}
+
+double Body::kinetic_energy() const
+{
+  if (rigid_) return 0.0;
+  double ke = 0;
+  const int nn = num_nodes();
+  for (int n = 0; n < nn; ++n) {
+    const double* v = &v_[3 * n];
+    ke += 0.5 * mass_[n] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  return ke;
+}
+
+double Body::momentum(int d) const
+{
+  if (rigid_) return 0.0;
+  double p = 0;
+  for (int n = 0; n < num_nodes(); ++n)
+    p += mass_[n] * v_[3 * n + d];
+  return p;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int Body::split_node(int node, const std::vector<int>& to_copy)
+{
+  const int copy = num_nodes();
+  for (int d = 0; d < 3; ++d)
+    mesh_.X.push_back(mesh_.X[3 * node + d]);
+  for (int e : to_copy)
+    for (int& c : mesh_.conn[e])
+      if (c == node) c = copy;
+  for (auto& set : mesh_.node_sets) {
+    std::vector<int>& s = set.second;
+    if (std::binary_search(s.begin(), s.end(), node))
+      s.insert(std::upper_bound(s.begin(), s.end(), copy), copy);
+  }
+  resize_nodes(copy + 1);
+  for (int d = 0; d < 3; ++d) {
+    x_[3 * copy + d] = x_[3 * node + d];
+    v_[3 * copy + d] = v_[3 * node + d];
+    v_prescribed_[3 * copy + d] = v_prescribed_[3 * node + d];
+    f_contact_prev_[3 * copy + d] = 0;
+  }
+  bc_[copy] = bc_[node];
+  parent_[copy] = node;
+  // The copy takes its elements' share of the lumped mass, the node keeps the rest (including
+  // that of eroded elements), so the sum is unchanged; the force is shared like the mass, so
+  // both parts keep the node's acceleration.
+  const double m_before = mass_[node];
+  double m_copy = 0;
+  for (int e : to_copy) {
+    double me[4];
+    space_.element_nodal_masses(mesh_, e, me);
+    for (int a = 0; a < nodes_per_elem(mesh_.etype[e]); ++a)
+      if (mesh_.conn[e][a] == copy) m_copy += me[a];
+  }
+  m_copy = std::min(m_copy, m_before);
+  mass_[copy] = m_copy;
+  mass_[node] = m_before - m_copy;
+  for (int n : {node, copy})
+    inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+  const double share = m_before > 0 ? m_copy / m_before : 0.5;
+  for (int d = 0; d < 3; ++d) {
+    const double fc = f_[3 * node + d] * share;
+    f_[3 * copy + d] = fc;
+    f_[3 * node + d] -= fc;
+  }
+  return copy;
+}
+
+void Body::erode(int e)
+{
+  mesh_.active[e] = 0;
+}
+
+/* ----------------------------------------------------------------------
+   restart record (doubles): version, nn, ne, time, external work, contact work,
+   version 1: x, v (3 nn each), active (ne)
+   version 2: X, x, v, v_prescribed (3 nn each), bc, parent, mass (nn each),
+              conn (4 ne), active (ne)
+------------------------------------------------------------------------- */
+
+void Body::pack_state(std::vector<double>& buf) const
+{
+  const int nn = num_nodes(), ne = mesh_.num_elems();
+  buf.clear();
+  buf.reserve(6 + 15 * nn + 5 * ne);
+  buf.insert(buf.end(), {2.0, double(nn), double(ne), time_, external_work_, contact_work_});
+  buf.insert(buf.end(), mesh_.X.begin(), mesh_.X.end());
+  buf.insert(buf.end(), x_.begin(), x_.end());
+  buf.insert(buf.end(), v_.begin(), v_.end());
+  buf.insert(buf.end(), v_prescribed_.begin(), v_prescribed_.end());
+  for (int n = 0; n < nn; ++n)
+    buf.push_back(static_cast<double>(bc_[n]));
+  buf.insert(buf.end(), parent_.begin(), parent_.end());
+  buf.insert(buf.end(), mass_.begin(), mass_.end());
+  for (int e = 0; e < ne; ++e)
+    buf.insert(buf.end(), mesh_.conn[e].begin(), mesh_.conn[e].end());
+  buf.insert(buf.end(), mesh_.active.begin(), mesh_.active.end());
+}
+
+void Body::unpack_state(const double* buf)
+{
+  const int version = static_cast<int>(buf[0]);
+  const int nn = static_cast<int>(buf[1]), ne = static_cast<int>(buf[2]);
+  const int mesh_nodes = std::count(parent_.begin(), parent_.end(), -1);
+  if ((version != 1 && version != 2) || ne != mesh_.num_elems() ||
+      (version == 1 && nn != num_nodes()) || (version == 2 && nn < mesh_nodes))
+    throw std::runtime_error("restart file holds a body with " + std::to_string(nn) + " nodes / " +
+                             std::to_string(ne) + " elements but the mesh has " +
+                             std::to_string(mesh_nodes) + " / " +
+                             std::to_string(mesh_.num_elems()));
+  time_ = buf[3];
+  external_work_ = buf[4];
+  contact_work_ = buf[5];
+  const double* p = buf + 6;
+  if (version == 2) {
+    mesh_.X.assign(p, p + 3 * nn);
+    p += 3 * nn;
+  }
+  resize_nodes(nn);
+  std::copy(p, p + 3 * nn, x_.begin());
+  std::copy(p + 3 * nn, p + 6 * nn, v_.begin());
+  p += 6 * nn;
+  if (version == 2) {
+    std::copy(p, p + 3 * nn, v_prescribed_.begin());
+    p += 3 * nn;
+    for (int n = 0; n < nn; ++n)
+      bc_[n] = static_cast<NodeBc>(static_cast<int>(p[n]));
+    for (int n = 0; n < nn; ++n)
+      parent_[n] = static_cast<int>(p[nn + n]);
+    std::copy(p + 2 * nn, p + 3 * nn, mass_.begin());
+    p += 3 * nn;
+    for (int e = 0; e < ne; ++e)
+      for (int a = 0; a < 4; ++a)
+        mesh_.conn[e][a] = static_cast<int>(p[4 * e + a]);
+    p += 4 * ne;
+    // Split nodes join the node sets of their parents (parents precede their copies).
+    for (auto& set : mesh_.node_sets) {
+      std::vector<int>& s = set.second;
+      for (int n = 0; n < nn; ++n)
+        if (parent_[n] >= 0 && std::binary_search(s.begin(), s.end(), parent_[n]))
+          s.insert(std::upper_bound(s.begin(), s.end(), n), n);
+    }
+  }
+  for (int e = 0; e < ne; ++e)
+    mesh_.active[e] = p[e] != 0.0;
+  if (version == 1) derive_masses(); // masses of the whole mesh, as that version's runs had
+  for (int n = 0; n < nn; ++n)
+    inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+}
+
+} // namespace fracdem

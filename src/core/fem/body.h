@@ -1,0 +1,114 @@
+// The finite-element body: one owner of its nodal and element state, its explicit update and
+// its topology operations (node split, erosion).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fem/body_motion.h"
+#include "fem/fe_space.h"
+#include "fem/material.h"
+#include "fem/mesh.h"
+
+namespace fracdem
+{
+
+// Boundary condition of a node: free, held in place, or moving at a prescribed velocity.
+enum class NodeBc : std::uint8_t { Free = 0, Fixed = 1, Prescribed = 2 };
+
+// A deformable (or rigid, prescribed-motion) body, replicated on every rank of a run. The host
+// adapter moves data between it and the host; the body does the physics:
+//   step:  half_kick_drift(dt)  -> forces: begin_forces(), add_internal_forces(),
+//          contact into contact_forces(), [sum over ranks] finish_forces() -> half_kick(dt)
+// Per-node arrays (3 doubles per node where vectors) grow together when a node is split.
+class Body
+{
+public:
+  // Takes the (placed) mesh, precomputes the element data and lumped masses. Throws FeError.
+  void build(Mesh mesh, const Material& material, bool rigid);
+  // This rank's share [begin, end) of the element work (the body itself is replicated).
+  void set_element_range(int begin, int end);
+
+  // ---- boundary conditions and initial state ----
+  void set_fixed(const std::vector<int>& nodes);
+  void set_prescribed_velocity(const std::vector<int>& nodes, const double v[3]);
+  void set_velocity(const std::vector<int>& nodes, const double v[3]);
+  // Velocities of fixed / prescribed nodes set to their conditions (after initial velocities).
+  void impose_velocity_conditions();
+  void set_rigid_motion(const RigidMotion& motion) { motion_ = motion; }
+
+  // ---- explicit update (velocity Verlet, in step with the host) ----
+  void advance_time(double dt) { time_ += dt; }
+  void move_rigid(); // rigid body: positions and velocities from the prescribed motion at time()
+  void half_kick_drift(double dt);
+  void half_kick(double dt);
+  // Zeroes the force and contact buffers.
+  void begin_forces();
+  // Internal forces of this rank's elements into forces(); returns their strain energy.
+  // An inverted element (det F <= 0) sets *first_inverted (if still < 0).
+  double add_internal_forces(int* first_inverted);
+  // After contact_forces() holds every rank's contributions and the strain energy is summed:
+  // contact work (trapezoidal, mid-step velocities), gravity and its work (deformable only),
+  // the total contact force, zero force on held nodes. `count_work` is false during set-up.
+  void finish_forces(double strain_energy, const double gravity[3], double dt, bool count_work);
+
+  // ---- topology ----
+  // Gives node `node` a copy that the elements `to_copy` (of its star) use from now on. The copy
+  // starts with the node's position, velocity and condition; the lumped masses of both are
+  // re-derived from their elements and the node's force is shared in proportion, so mass,
+  // momentum and force sums are unchanged (to round-off). Returns the copy's index.
+  int split_node(int node, const std::vector<int>& to_copy);
+  // Removes element e from the body (its nodes keep their masses and go on as point masses).
+  void erode(int e);
+
+  // ---- state ----
+  const Mesh& mesh() const { return mesh_; }
+  const FeSpace& space() const { return space_; }
+  const Material& material() const { return material_; }
+  bool rigid() const { return rigid_; }
+  int num_nodes() const { return mesh_.num_nodes(); }
+  const std::vector<double>& positions() const { return x_; }
+  const std::vector<double>& velocities() const { return v_; }
+  const std::vector<double>& forces() const { return f_; }
+  const std::vector<double>& masses() const { return mass_; }
+  const std::vector<NodeBc>& conditions() const { return bc_; }
+  const std::vector<int>& parents() const { return parent_; } // -1: an original mesh node
+  double* forces_data() { return f_.data(); }
+  double* contact_forces() { return f_contact_.data(); }
+  double time() const { return time_; }
+  double strain_energy() const { return strain_energy_; }
+  double external_work() const { return external_work_; }
+  double contact_work() const { return contact_work_; }
+  const double* contact_force_total() const { return contact_force_total_; }
+  double kinetic_energy() const;
+  double momentum(int d) const;
+  double stable_time_step() const { return space_.stable_time_step(mesh_, x_.data()); }
+
+  // ---- restart: the whole state including topology (split nodes, connectivity, activity) ----
+  void pack_state(std::vector<double>& buf) const;
+  // Restores a state packed by pack_state (or a version-1 record: positions, velocities and
+  // activity of an unsplit body); the record's length follows from its header. Throws
+  // std::runtime_error when the record does not fit this body's mesh.
+  void unpack_state(const double* buf);
+
+private:
+  void resize_nodes(int nn);
+  void derive_masses();
+
+  Mesh mesh_;
+  FeSpace space_;
+  Material material_;
+  bool rigid_ = false;
+  RigidMotion motion_;
+  std::vector<double> x_, v_, f_, mass_, inv_mass_;
+  std::vector<double> f_contact_, f_contact_prev_;
+  std::vector<NodeBc> bc_;
+  std::vector<double> v_prescribed_;
+  std::vector<int> parent_;
+  int elem_begin_ = 0, elem_end_ = 0;
+  double time_ = 0;
+  double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0;
+  double contact_force_total_[3] = {0, 0, 0};
+};
+
+} // namespace fracdem

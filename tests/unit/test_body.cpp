@@ -1,0 +1,332 @@
+// Unit tests of the core FE body (update, conditions, node split, restart state) and of the
+// particle-facet contact pipeline that couples it to particles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "contact/particle_facet.h"
+#include "fem/body.h"
+#include "io/mesh_generators.h"
+
+using namespace fracdem;
+
+namespace
+{
+
+Material steel()
+{
+  Material m;
+  m.E = 2e11;
+  m.nu = 0.3;
+  m.rho = 7800;
+  return m;
+}
+
+// Sum over nodes of mass (d = -1) or of mass * velocity component d.
+double total(const Body& b, int d)
+{
+  double s = 0;
+  for (int n = 0; n < b.num_nodes(); ++n)
+    s += b.masses()[n] * (d < 0 ? 1.0 : b.velocities()[3 * n + d]);
+  return s;
+}
+
+// A body with a random velocity field and its internal forces evaluated.
+Body shaken_body(ElemType type)
+{
+  Body b;
+  Mesh m = type == ElemType::Tet4 ? make_box_tet_mesh(3, 2, 2, 0.3, 0.2, 0.2)
+                                  : make_rect_mesh(4, 3, 0.4, 0.3, {0, 0}, type);
+  b.build(std::move(m), steel(), false);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n = 0; n < b.num_nodes(); ++n) {
+    const double v[3] = {u(rng), u(rng), type == ElemType::Tet4 ? u(rng) : 0.0};
+    b.set_velocity({n}, v);
+  }
+  b.half_kick_drift(1e-7);
+  b.begin_forces();
+  const double g[3] = {0, 0, 0};
+  int inv = -1;
+  b.finish_forces(b.add_internal_forces(&inv), g, 1e-7, true);
+  return b;
+}
+
+} // namespace
+
+TEST(Body, VelocityVerletStepMatchesHandComputation)
+{
+  // One free node of known mass under a constant force: v += f dt / (2m), x += v dt.
+  Body b;
+  b.build(make_rect_mesh(1, 1, 1.0, 1.0, {0, 0}, ElemType::Quad4), steel(), false);
+  const double v0[3] = {1.0, -2.0, 0.0};
+  b.set_velocity({2}, v0);
+  b.begin_forces();
+  b.contact_forces()[3 * 2 + 0] = 3.0; // a contact force only (no strain yet)
+  const double g[3] = {0, 0, 0};
+  int inv = -1;
+  b.finish_forces(b.add_internal_forces(&inv), g, 0.1, true);
+  const double m = b.masses()[2], dt = 1e-3;
+  const double x0 = b.positions()[6];
+  b.half_kick_drift(dt);
+  const double vh = 1.0 + 0.5 * dt * 3.0 / m;
+  EXPECT_DOUBLE_EQ(b.velocities()[6], vh);
+  EXPECT_DOUBLE_EQ(b.positions()[6], x0 + dt * vh);
+  EXPECT_DOUBLE_EQ(b.velocities()[7], -2.0);
+}
+
+TEST(Body, FixedAndPrescribedNodesFollowTheirConditions)
+{
+  Body b;
+  b.build(make_rect_mesh(2, 1, 2.0, 1.0, {0, 0}, ElemType::Tri3), steel(), false);
+  const double vp[3] = {0.5, 0, 0}, vi[3] = {9, 9, 0};
+  b.set_velocity({0, 1, 2}, vi);
+  b.set_fixed({0});
+  b.set_prescribed_velocity({1}, vp);
+  b.impose_velocity_conditions();
+  const double x0 = b.positions()[0], x1 = b.positions()[3];
+  for (int s = 0; s < 10; ++s) {
+    b.half_kick_drift(1e-6);
+    b.begin_forces();
+    const double g[3] = {0, -9.81, 0};
+    int inv = -1;
+    b.finish_forces(b.add_internal_forces(&inv), g, 1e-6, true);
+    b.half_kick(1e-6);
+  }
+  EXPECT_EQ(b.positions()[0], x0);                            // held
+  EXPECT_NEAR(b.positions()[3], x1 + 10 * 1e-6 * 0.5, 1e-15); // prescribed
+  EXPECT_EQ(b.forces()[0], 0.0);                              // no force on held nodes
+  EXPECT_NE(b.velocities()[3 * 2], 9.0);                      // free node moved by forces
+}
+
+class BodySplit : public ::testing::TestWithParam<ElemType>
+{
+};
+
+TEST_P(BodySplit, ConservesMassMomentumAndForce)
+{
+  Body b = shaken_body(GetParam());
+  const double m0 = total(b, -1), px = total(b, 0), py = total(b, 1);
+  double f0[3] = {0, 0, 0};
+  for (int n = 0; n < b.num_nodes(); ++n)
+    for (int d = 0; d < 3; ++d)
+      f0[d] += b.forces()[3 * n + d];
+  // Split an interior node: the elements whose centroid lies at larger x get the copy.
+  const Mesh& mesh = b.mesh();
+  int node = -1;
+  for (int n = 0; n < b.num_nodes() && node < 0; ++n) {
+    int count = 0;
+    for (int e = 0; e < mesh.num_elems(); ++e)
+      for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+        count += mesh.conn[e][a] == n;
+    if (count >= (GetParam() == ElemType::Tet4 ? 12 : 4)) node = n;
+  }
+  ASSERT_GE(node, 0);
+  std::vector<int> right;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    double cx = 0;
+    bool has = false;
+    const int k = nodes_per_elem(mesh.etype[e]);
+    for (int a = 0; a < k; ++a) {
+      cx += mesh.X[3 * mesh.conn[e][a]] / k;
+      has |= mesh.conn[e][a] == node;
+    }
+    if (has && cx > mesh.X[3 * node]) right.push_back(e);
+  }
+  ASSERT_FALSE(right.empty());
+  const double m_node = b.masses()[node];
+  const int copy = b.split_node(node, right);
+  EXPECT_EQ(copy, b.num_nodes() - 1);
+  EXPECT_EQ(b.parents()[copy], node);
+  EXPECT_GT(b.masses()[copy], 0.0);
+  EXPECT_LT(b.masses()[copy], m_node);
+  // Sums unchanged to round-off (relative 1e-14).
+  EXPECT_NEAR(total(b, -1), m0, 1e-14 * m0);
+  EXPECT_NEAR(total(b, 0), px, 1e-14 * std::fabs(m0));
+  EXPECT_NEAR(total(b, 1), py, 1e-14 * std::fabs(m0));
+  double f1[3] = {0, 0, 0};
+  for (int n = 0; n < b.num_nodes(); ++n)
+    for (int d = 0; d < 3; ++d)
+      f1[d] += b.forces()[3 * n + d];
+  const double fscale = std::fabs(b.forces()[3 * node]) + std::fabs(b.forces()[3 * copy]) + 1;
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(f1[d], f0[d], 1e-12 * fscale);
+  // Both halves keep the node's acceleration.
+  EXPECT_NEAR(b.forces()[3 * node] / b.masses()[node], b.forces()[3 * copy] / b.masses()[copy],
+              1e-12 * std::fabs(b.forces()[3 * copy] / b.masses()[copy]) + 1e-300);
+  // The copy's elements use it; none uses both.
+  for (int e : right) {
+    bool uses_copy = false;
+    for (int c : b.mesh().conn[e])
+      uses_copy |= c == copy;
+    EXPECT_TRUE(uses_copy);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, BodySplit,
+                         ::testing::Values(ElemType::Tri3, ElemType::Quad4, ElemType::Tet4));
+
+TEST(Body, RestartStateRestoresSplitTopologyExactly)
+{
+  Body a = shaken_body(ElemType::Tri3);
+  a.advance_time(0.25);
+  const int copy = a.split_node(6, {a.mesh().num_elems() - 1 > 12 ? 13 : 0});
+  a.erode(2);
+  std::vector<double> buf;
+  a.pack_state(buf);
+  // A fresh body from the same mesh file, then the record.
+  Body b;
+  b.build(make_rect_mesh(4, 3, 0.4, 0.3, {0, 0}, ElemType::Tri3), steel(), false);
+  b.unpack_state(buf.data());
+  ASSERT_EQ(b.num_nodes(), a.num_nodes());
+  EXPECT_EQ(b.parents()[copy], 6);
+  EXPECT_EQ(b.mesh().conn, a.mesh().conn);
+  EXPECT_EQ(b.mesh().active, a.mesh().active);
+  EXPECT_EQ(b.mesh().X, a.mesh().X);
+  EXPECT_EQ(b.positions(), a.positions());
+  EXPECT_EQ(b.velocities(), a.velocities());
+  EXPECT_EQ(b.masses(), a.masses());
+  EXPECT_EQ(b.time(), a.time());
+  // A record for another mesh is refused.
+  Body c;
+  c.build(make_rect_mesh(2, 2, 0.4, 0.3, {0, 0}, ElemType::Tri3), steel(), false);
+  EXPECT_THROW(c.unpack_state(buf.data()), std::runtime_error);
+}
+
+/* ---------------------------------------------------------------------- */
+
+namespace
+{
+
+// One sphere (radius r, at q, velocity v) as host particle arrays.
+struct OneParticle {
+  double x[3], v[3] = {0, 0, 0}, omega[3] = {0, 0, 0}, f[3] = {0, 0, 0}, t[3] = {0, 0, 0};
+  double* px[1] = {x};
+  double* pv[1] = {v};
+  double* po[1] = {omega};
+  double* pf[1] = {f};
+  double* pt[1] = {t};
+  double radius, mass = 1.0;
+  int type = 1, mask = 1;
+  std::vector<double> hist = std::vector<double>(4 * kHistorySlotDoubles, -1.0);
+  double* ph[1] = {hist.data()};
+  ParticleArrays arrays()
+  {
+    ParticleArrays p;
+    p.n = 1;
+    p.x = px;
+    p.v = pv;
+    p.omega = po;
+    p.f = pf;
+    p.torque = pt;
+    p.radius = &radius;
+    p.rmass = &mass;
+    p.type = &type;
+    p.mask = &mask;
+    p.groupbit = 1;
+    p.history = ph;
+    p.slots = 4;
+    return p;
+  }
+};
+
+} // namespace
+
+TEST(ParticleFacet, SphereOnAMeshedPlaneGetsOneHertzContactAndBalancedReactions)
+{
+  // A sphere resting (no velocity) with overlap delta on the top face of a tet box: whatever
+  // facet, edge or vertex lies under it, one contact with Hertz's force 4/3 E* sqrt(R) delta^1.5
+  // (granular_law with a rigid surface: E* from the particle alone), and the nodal reactions
+  // sum to minus the particle force (momentum balance).
+  const Mesh mesh = make_box_tet_mesh(4, 4, 1, 1.0, 1.0, 0.25);
+  ParticleFacetContact contact;
+  ParticleFacetOptions opt;
+  opt.buffer = 0.01;
+  contact.configure(opt);
+  const double E = 1e7, nu = 0.3;
+  contact.set_materials(
+      {ContactMaterial{}, mix_materials(E, nu, 0, 0, 0.9, 0.5, 1, NormalModel::Hertz, true)});
+  contact.rebuild_surface(mesh);
+  const double Estar = E / (1 - nu * nu);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.1, 0.9);
+  for (int trial = 0; trial < 40; ++trial) {
+    OneParticle p;
+    p.radius = 0.05;
+    const double delta = 1e-3;
+    // Every 4th trial exactly above a mesh vertex / edge, the rest anywhere.
+    p.x[0] = trial % 4 ? u(rng) : 0.25 * (1 + trial % 3);
+    p.x[1] = trial % 4 ? u(rng) : 0.5;
+    p.x[2] = 0.25 + p.radius - delta;
+    std::vector<double> fn(3 * mesh.num_nodes(), 0.0);
+    ParticleArrays arr = p.arrays();
+    contact.invalidate_search();
+    const ParticleFacetResult res =
+        contact.evaluate(arr, mesh.X.data(), mesh.X.data(),
+                         std::vector<double>(3 * mesh.num_nodes(), 0.0).data(), 1e-6, fn.data());
+    ASSERT_EQ(res.contacts, 1) << "trial " << trial;
+    const double hertz = 4.0 / 3.0 * Estar * std::sqrt(p.radius * delta) * delta;
+    EXPECT_NEAR(p.f[2], hertz, 1e-9 * hertz) << "trial " << trial;
+    EXPECT_NEAR(p.f[0], 0.0, 1e-9 * hertz);
+    double sum[3] = {0, 0, 0};
+    for (int n = 0; n < mesh.num_nodes(); ++n)
+      for (int d = 0; d < 3; ++d)
+        sum[d] += fn[3 * n + d];
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(sum[d], -p.f[d], 1e-12 * hertz);
+  }
+}
+
+TEST(ParticleFacet, ChecksEqualCandidatesAndHistoryEndsWithTheContact)
+{
+  const Mesh mesh = make_rect_mesh(8, 2, 1.0, 0.25, {0, 0}, ElemType::Quad4);
+  ParticleFacetContact contact;
+  ParticleFacetOptions opt;
+  opt.buffer = 0.02;
+  contact.configure(opt);
+  contact.set_materials(
+      {ContactMaterial{}, mix_materials(1e7, 0.3, 0, 0, 0.9, 0.5, 1, NormalModel::Hertz, true)});
+  contact.rebuild_surface(mesh);
+  OneParticle p;
+  p.radius = 0.05;
+  p.x[0] = 0.51;
+  p.x[1] = 0.25 + 0.049;
+  p.x[2] = 0;
+  p.v[0] = 0.3; // sliding: tangential history builds up
+  const std::vector<double> zero(3 * mesh.num_nodes(), 0.0);
+  std::vector<double> fn(3 * mesh.num_nodes(), 0.0);
+  ParticleArrays arr = p.arrays();
+  ParticleFacetResult res =
+      contact.evaluate(arr, mesh.X.data(), mesh.X.data(), zero.data(), 1e-4, fn.data());
+  EXPECT_EQ(res.contacts, 1);
+  EXPECT_GT(contact.checks()[0], 0);
+  int used = 0;
+  for (int k = 0; k < 4; ++k)
+    used += p.hist[k * kHistorySlotDoubles] >= 0;
+  EXPECT_EQ(used, 1);
+  // Lift the particle off: the history record is freed.
+  p.x[1] = 0.25 + 0.06;
+  res = contact.evaluate(arr, mesh.X.data(), mesh.X.data(), zero.data(), 1e-4, fn.data());
+  EXPECT_EQ(res.contacts, 0);
+  for (int k = 0; k < 4; ++k)
+    EXPECT_LT(p.hist[k * kHistorySlotDoubles], 0);
+}
+
+TEST(ParticleFacet, HistorySlotsFindCreateAndReportExhaustion)
+{
+  std::vector<double> row(2 * kHistorySlotDoubles);
+  clear_history_row(row.data(), 2);
+  bool full = false;
+  double* a = history_slot(row.data(), 2, 0x123456789ull, true, &full);
+  double* b = history_slot(row.data(), 2, 42, true, &full);
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  EXPECT_NE(a, b);
+  EXPECT_EQ(history_slot(row.data(), 2, 0x123456789ull, false, &full), a);
+  EXPECT_FALSE(full);
+  EXPECT_EQ(history_slot(row.data(), 2, 7, true, &full), nullptr);
+  EXPECT_TRUE(full);
+}
