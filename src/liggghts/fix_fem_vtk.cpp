@@ -72,15 +72,13 @@ void FixFemVtk::write_frame()
   for (int k = 0; k < 3 * nn; ++k)
     disp[k] = x[k] - mesh.X[k];
   std::vector<double> stress(6 * ne, 0.0), mises(ne, 0.0), energy_density(ne, 0.0);
-  if (!body_->is_rigid()) {
-    std::vector<double> elem_energy(ne, 0.0);
-    std::vector<double> scratch(3 * nn, 0.0);
-    int inverted = -1;
-    body_->fe_space().add_internal_forces(mesh, x.data(), 0, ne, scratch.data(), elem_energy.data(),
-                                          &inverted);
+  const fracdem::Body& body = body_->body();
+  if (!body.rigid()) {
+    std::vector<double> elem_energy;
+    body.element_energies(elem_energy);
     for (int e = 0; e < ne; ++e) {
       if (!mesh.active[e]) continue;
-      body_->fe_space().element_stress(mesh, x.data(), e, &stress[6 * e]);
+      body.element_stress(e, &stress[6 * e]);
       mises[e] = fracdem::FeSpace::von_mises(&stress[6 * e]);
       const double vol = body_->fe_space().reference_measure(e);
       energy_density[e] = vol > 0 ? elem_energy[e] / vol : 0.0;

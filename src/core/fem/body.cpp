@@ -20,6 +20,7 @@ void Body::build(Mesh mesh, const Material& material, bool rigid)
   x_ = mesh_.X;
   std::fill(parent_.begin(), parent_.end(), -1);
   derive_masses();
+  state_.assign(space_.state_size(), 0.0);
   elem_begin_ = 0;
   elem_end_ = mesh_.num_elems();
 }
@@ -141,7 +142,16 @@ double Body::add_internal_forces(int* first_inverted)
 {
   if (rigid_) return 0.0;
   return space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
-                                    first_inverted);
+                                    first_inverted, state_.data());
+}
+
+void Body::element_energies(std::vector<double>& energy) const
+{
+  energy.assign(mesh_.num_elems(), 0.0);
+  if (rigid_) return;
+  std::vector<double> scratch_f(3 * num_nodes(), 0.0), scratch_state(state_);
+  space_.add_internal_forces(mesh_, x_.data(), 0, mesh_.num_elems(), scratch_f.data(),
+                             energy.data(), nullptr, scratch_state.data());
 }
 
 void Body::finish_forces(double strain_energy, const double gravity[3], double dt, bool count_work)

@@ -83,6 +83,15 @@ public:
   double kinetic_energy() const;
   double momentum(int d) const;
   double stable_time_step() const { return space_.stable_time_step(mesh_, x_.data()); }
+  // Material history of every integration point (layout: FeSpace::state_offset).
+  const std::vector<double>& material_state() const { return state_; }
+  // Cauchy stress of element e now (Voigt 6), without advancing its history.
+  void element_stress(int e, double sigma[6]) const
+  {
+    space_.element_stress(mesh_, x_.data(), e, sigma, state_.data());
+  }
+  // Strain energy per element now (0 for eroded ones), without advancing any history.
+  void element_energies(std::vector<double>& energy) const;
 
   // ---- restart: the whole state including topology (split nodes, connectivity, activity) ----
   void pack_state(std::vector<double>& buf) const;
@@ -105,6 +114,7 @@ private:
   std::vector<NodeBc> bc_;
   std::vector<double> v_prescribed_;
   std::vector<int> parent_;
+  std::vector<double> state_; // per integration point, see FeSpace::state_offset
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
   double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0;

@@ -2,6 +2,8 @@
 // masses, dt.
 #include "fem/fe_space.h"
 
+#include "materials/material_table.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -70,11 +72,58 @@ inline void polar_rotation(const double F[9], double R[9])
   }
 }
 
+// Constitutive laws seen by the element kernels: strain in, stress (and updated state) out, per
+// integration point. eps: Voigt (xx, yy, zz, xy, yz, zx), engineering shear; zz is the hoop
+// strain in axisymmetric runs. trace: the element's dilatation at the point (B-bar: the element
+// mean). Returns sigma : eps (twice the energy density). bind() selects element e's data.
+struct ElasticLaw {
+  double lam, mu;
+  bool plane_stress; // sigma_zz = 0 (lam is then the plane-stress reduced constant)
+  void bind(int, const std::array<int, 4>&) {}
+  double operator()(const double e[6], double trace, int, double s[6]) const
+  {
+    const double ltr = lam * trace;
+    s[0] = ltr + 2 * mu * e[0];
+    s[1] = ltr + 2 * mu * e[1];
+    s[2] = plane_stress ? 0.0 : ltr + 2 * mu * e[2];
+    s[3] = mu * e[3];
+    s[4] = mu * e[4];
+    s[5] = mu * e[5];
+    return s[0] * e[0] + s[1] * e[1] + s[2] * e[2] + s[3] * e[3] + s[4] * e[4] + s[5] * e[5];
+  }
+};
+
+// Rankine rotating crack with crack-band softening (materials/rankine.h); state: one block of
+// kRankineStateSize doubles per integration point, element blocks at state_offset[e].
+struct RankineLaw {
+  RankineParams params;
+  StressMode mode;
+  const double* X;
+  const int* state_offset;
+  double* state;
+  double elem_X[12];
+  int nnodes = 0;
+  double* elem_state = nullptr;
+  void bind(int e, const std::array<int, 4>& c)
+  {
+    nnodes = c[3] >= 0 ? 4 : 3;
+    for (int a = 0; a < nnodes; ++a)
+      for (int i = 0; i < 3; ++i)
+        elem_X[3 * a + i] = X[3 * c[a] + i];
+    elem_state = state + state_offset[e];
+  }
+  double operator()(const double e[6], double, int q, double s[6])
+  {
+    return 2.0 *
+           rankine_stress(params, mode, e, elem_X, nnodes, elem_state + q * kRankineStateSize, s);
+  }
+};
+
 // Tet4, one point. u: nodal displacements (12). Adds -grad E into fl (12, overwritten).
 // sig (optional): Cauchy stress, Voigt 6. Returns the strain energy.
-template <bool Corot>
-inline double tet_kernel(const double* g, const double* u, double lam, double mu, double* fl,
-                         double& detF, double* sig)
+template <bool Corot, class Law>
+inline double tet_kernel(const double* g, const double* u, Law& law, double* fl, double& detF,
+                         double* sig)
 {
   const double* dN = g;
   const double V = g[12];
@@ -102,9 +151,10 @@ inline double tet_kernel(const double* g, const double* u, double lam, double mu
   }
   const double exx = H[0], eyy = H[4], ezz = H[8];
   const double gxy = H[1] + H[3], gyz = H[5] + H[7], gzx = H[2] + H[6];
-  const double ltr = lam * (exx + eyy + ezz);
-  const double sxx = ltr + 2 * mu * exx, syy = ltr + 2 * mu * eyy, szz = ltr + 2 * mu * ezz;
-  const double sxy = mu * gxy, syz = mu * gyz, szx = mu * gzx;
+  const double eps[6] = {exx, eyy, ezz, gxy, gyz, gzx};
+  double st[6];
+  const double w2 = law(eps, exx + eyy + ezz, 0, st);
+  const double sxx = st[0], syy = st[1], szz = st[2], sxy = st[3], syz = st[4], szx = st[5];
   double P[9] = {sxx, sxy, szx, sxy, syy, syz, szx, syz, szz};
   if (Corot) { // first Piola stress P = R sigma
     double RP[9];
@@ -140,7 +190,7 @@ inline double tet_kernel(const double* g, const double* u, double lam, double mu
     fl[3 * a + 1] = -(P[3] * d0 + P[4] * d1 + P[5] * d2);
     fl[3 * a + 2] = -(P[6] * d0 + P[7] * d1 + P[8] * d2);
   }
-  return 0.5 * V * (sxx * exx + syy * eyy + szz * ezz + sxy * gxy + syz * gyz + szx * gzx);
+  return 0.5 * V * w2;
 }
 
 // In-plane polar rotation (closed form): R = [[c,-s],[s,c]] makes R^T F symmetric.
@@ -159,9 +209,9 @@ inline void rotation2d(const double F[4], double& c, double& s)
 
 // Tri3, one point. u: nodal displacements (2 per node). fl (6) overwritten. sig (optional):
 // xx, yy, zz|hoop, xy. Returns the strain energy.
-template <bool Corot>
-inline double tri_kernel(const double* g, const double* u, double lam, double mu, double* fl,
-                         double& detF, double* sig)
+template <bool Corot, class Law>
+inline double tri_kernel(const double* g, const double* u, Law& law, double* fl, double& detF,
+                         double* sig)
 {
   const double* dN = g;
   const double w = g[6];
@@ -186,9 +236,10 @@ inline double tri_kernel(const double* g, const double* u, double lam, double mu
     H[3] = -s * F[1] + c * F[3] - 1;
   }
   const double exx = H[0], eyy = H[3], gxy = H[1] + H[2];
-  const double ltr = lam * (exx + eyy + eth);
-  const double sxx = ltr + 2 * mu * exx, syy = ltr + 2 * mu * eyy, sth = ltr + 2 * mu * eth;
-  const double sxy = mu * gxy;
+  const double eps[6] = {exx, eyy, eth, gxy, 0, 0};
+  double st[6];
+  const double w2 = law(eps, exx + eyy + eth, 0, st);
+  const double sxx = st[0], syy = st[1], sth = st[2], sxy = st[3];
   double P0 = sxx, P1 = sxy, P2 = sxy, P3 = syy;
   if (Corot) {
     P0 = c * sxx - s * sxy;
@@ -207,7 +258,7 @@ inline double tri_kernel(const double* g, const double* u, double lam, double mu
     sig[2] = sth;
     sig[3] = c * s * (sxx - syy) + (c * c - s * s) * sxy;
   }
-  return 0.5 * w * (sxx * exx + syy * eyy + sth * eth + sxy * gxy);
+  return 0.5 * w * w2;
 }
 
 // Quad4, 2x2 Gauss with B-bar: the dilatation theta_q at each point (in-plane trace + hoop strain)
@@ -217,8 +268,9 @@ inline double tri_kernel(const double* g, const double* u, double lam, double mu
 // f_a = -sum_q w_q [R sigma grad N_a + sigma_zz hoop_a e_x + p_q (bbar_a - b_a(q))],
 // with b_a(q) = d theta_q / d x_a = R_q grad N_a + hoop_a e_x and p_q = tr(sigma_q) / 3.
 // u: displacements (2 per node); fl (8) overwritten; sig (optional) gets the point average.
-template <bool Corot>
-inline double quad_kernel(const double* g, const double* u, double lam, double mu, double* fl,
+// Without B-bar (plane stress, where nothing locks) each point keeps its own dilatation.
+template <bool Corot, class Law>
+inline double quad_kernel(const double* g, const double* u, Law& law, bool bbar_on, double* fl,
                           double& detmin, double* sig)
 {
   double H[4][4], eth[4], th[4], cq[4], sq[4];
@@ -268,12 +320,13 @@ inline double quad_kernel(const double* g, const double* u, double lam, double m
     const double w = gq[8];
     const double* hoop = gq + 9;
     const double c = cq[q], s = sq[q];
-    const double d = (thbar - th[q]) / 3.0;
+    const double d = bbar_on ? (thbar - th[q]) / 3.0 : 0.0;
     const double exx = H[q][0] + d, eyy = H[q][3] + d, ezz = eth[q] + d, gxy = H[q][1] + H[q][2];
-    const double ltr = lam * thbar;
-    const double sxx = ltr + 2 * mu * exx, syy = ltr + 2 * mu * eyy, szz = ltr + 2 * mu * ezz;
-    const double sxy = mu * gxy;
-    const double p = (sxx + syy + szz) / 3.0;
+    const double eps[6] = {exx, eyy, ezz, gxy, 0, 0};
+    double st[6];
+    const double w2 = law(eps, bbar_on ? thbar : th[q], q, st);
+    const double sxx = st[0], syy = st[1], szz = st[2], sxy = st[3];
+    const double p = bbar_on ? (sxx + syy + szz) / 3.0 : 0.0;
     double P0 = sxx, P1 = sxy, P2 = sxy, P3 = syy;
     if (Corot) {
       P0 = c * sxx - s * sxy;
@@ -290,7 +343,7 @@ inline double quad_kernel(const double* g, const double* u, double lam, double m
       bbar[2 * a + 1] += w * by;
     }
     psum += w * p;
-    energy += 0.5 * w * (sxx * exx + syy * eyy + szz * ezz + sxy * gxy);
+    energy += 0.5 * w * w2;
     if (sig) {
       sig[0] += 0.25 * (c * c * sxx - 2 * c * s * sxy + s * s * syy);
       sig[1] += 0.25 * (s * s * sxx + 2 * c * s * sxy + c * c * syy);
@@ -453,10 +506,37 @@ std::string elem_msg(int e, const std::string& what)
   return os.str();
 }
 
-// The element loop, instantiated per kinematics so the hot path has no model branches.
-template <bool Corot>
+// One element: gathers its nodal displacements, runs its kernel. fl: local forces (3 per node for
+// tets, 2 per node in 2D); sig (optional): Voigt 6 (tet) or 4 (2D: xx, yy, zz|hoop, xy).
+template <bool Corot, class Law>
+double element_kernel(ElemType t, const int* c, const double* g, const double* X, const double* x,
+                      Law& law, bool bbar_on, double* fl, double& detF, double* sig)
+{
+  if (t == ElemType::Tet4) {
+    double u[12];
+    for (int a = 0; a < 4; ++a) {
+      const int n = 3 * c[a];
+      u[3 * a + 0] = x[n + 0] - X[n + 0];
+      u[3 * a + 1] = x[n + 1] - X[n + 1];
+      u[3 * a + 2] = x[n + 2] - X[n + 2];
+    }
+    return tet_kernel<Corot>(g, u, law, fl, detF, sig);
+  }
+  const int nn = t == ElemType::Tri3 ? 3 : 4;
+  double u[8];
+  for (int a = 0; a < nn; ++a) {
+    const int n = 3 * c[a];
+    u[2 * a] = x[n] - X[n];
+    u[2 * a + 1] = x[n + 1] - X[n + 1];
+  }
+  if (t == ElemType::Tri3) return tri_kernel<Corot>(g, u, law, fl, detF, sig);
+  return quad_kernel<Corot>(g, u, law, bbar_on, fl, detF, sig);
+}
+
+// The element loop, instantiated per kinematics and law so the hot path has no model branches.
+template <bool Corot, class Law>
 double forces_loop(const Mesh& mesh, const double* geo, const int* offset, const double* x, int eb,
-                   int ee, double lam, double mu, double* f, double* elem_energy,
+                   int ee, Law& law, bool bbar_on, double* f, double* elem_energy,
                    int* first_inverted)
 {
   const double* X = mesh.X.data();
@@ -471,44 +551,20 @@ double forces_loop(const Mesh& mesh, const double* geo, const int* offset, const
       continue;
     }
     const int* c = conn[e].data();
-    const double* g = geo + offset[e];
-    double en, detF;
+    law.bind(e, conn[e]);
+    double fl[12], detF;
+    const double en =
+        element_kernel<Corot>(etype[e], c, geo + offset[e], X, x, law, bbar_on, fl, detF, nullptr);
     if (etype[e] == ElemType::Tet4) {
-      double u[12], fl[12];
-      for (int a = 0; a < 4; ++a) {
-        const int n = 3 * c[a];
-        u[3 * a + 0] = x[n + 0] - X[n + 0];
-        u[3 * a + 1] = x[n + 1] - X[n + 1];
-        u[3 * a + 2] = x[n + 2] - X[n + 2];
-      }
-      en = tet_kernel<Corot>(g, u, lam, mu, fl, detF, nullptr);
       for (int a = 0; a < 4; ++a) {
         double* fa = f + 3 * c[a];
         fa[0] += fl[3 * a];
         fa[1] += fl[3 * a + 1];
         fa[2] += fl[3 * a + 2];
       }
-    } else if (etype[e] == ElemType::Tri3) {
-      double u[6], fl[6];
-      for (int a = 0; a < 3; ++a) {
-        const int n = 3 * c[a];
-        u[2 * a] = x[n] - X[n];
-        u[2 * a + 1] = x[n + 1] - X[n + 1];
-      }
-      en = tri_kernel<Corot>(g, u, lam, mu, fl, detF, nullptr);
-      for (int a = 0; a < 3; ++a) {
-        f[3 * c[a]] += fl[2 * a];
-        f[3 * c[a] + 1] += fl[2 * a + 1];
-      }
     } else {
-      double u[8], fl[8];
-      for (int a = 0; a < 4; ++a) {
-        const int n = 3 * c[a];
-        u[2 * a] = x[n] - X[n];
-        u[2 * a + 1] = x[n + 1] - X[n + 1];
-      }
-      en = quad_kernel<Corot>(g, u, lam, mu, fl, detF, nullptr);
-      for (int a = 0; a < 4; ++a) {
+      const int nn = etype[e] == ElemType::Tri3 ? 3 : 4;
+      for (int a = 0; a < nn; ++a) {
         f[3 * c[a]] += fl[2 * a];
         f[3 * c[a] + 1] += fl[2 * a + 1];
       }
@@ -537,6 +593,10 @@ void FeSpace::build(const Mesh& mesh, const Material& mat)
     offset_[e + 1] = offset_[e] + block_size(mesh.etype[e]);
   geo_.assign(offset_[ne], 0.0);
   measure_.assign(ne, 0.0);
+  const int per_point = material_model_info(mat.model).state_per_point;
+  state_offset_.assign(ne + 1, 0);
+  for (int e = 0; e < ne; ++e)
+    state_offset_[e + 1] = state_offset_[e] + per_point * points_per_elem(mesh.etype[e]);
   const double* X = mesh.X.data();
   const int nn = mesh.num_nodes();
   for (int e = 0; e < ne; ++e) {
@@ -635,62 +695,78 @@ void FeSpace::lumped_masses(const Mesh& mesh, std::vector<double>& m) const
 
 /* ---------------------------------------------------------------------- */
 
+// Runs fn(law) with the body's constitutive law (the elastic one needs no state).
+template <class Fn>
+auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_offset,
+              double* state, Fn&& fn)
+{
+  if (mat.model == MaterialModel::Rankine) {
+    const StressMode mode = dim == 3                               ? StressMode::Solid
+                            : mat.plane == PlaneMode::PlaneStress  ? StressMode::PlaneStress
+                            : mat.plane == PlaneMode::Axisymmetric ? StressMode::Axisymmetric
+                                                                   : StressMode::PlaneStrain;
+    RankineLaw law{mat.rankine(), mode, mesh.X.data(), state_offset, state, {}, 0, nullptr};
+    return fn(law);
+  }
+  ElasticLaw law{mat.in_plane_lambda(dim), mat.mu(),
+                 dim == 2 && mat.plane == PlaneMode::PlaneStress};
+  return fn(law);
+}
+
 double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
-                                    double* f, double* elem_energy, int* first_inverted) const
+                                    double* f, double* elem_energy, int* first_inverted,
+                                    double* state) const
 {
   e_begin = std::max(e_begin, 0);
   e_end = std::min(e_end, mesh.num_elems());
-  const double lam = mat_.lambda(), mu = mat_.mu();
-  if (mat_.kinematics == Kinematics::Corotational)
-    return forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, lam, mu, f,
-                             elem_energy, first_inverted);
-  return forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, lam, mu, f,
-                            elem_energy, first_inverted);
+  if (state_offset_.back() > 0 && !state)
+    throw std::invalid_argument("FeSpace: this material needs its per-point state");
+  const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
+  const bool corot = mat_.kinematics == Kinematics::Corotational;
+  return with_law(mat_, dim_, mesh, state_offset_.data(), state, [&](auto& law) {
+    if (corot)
+      return forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar, f,
+                               elem_energy, first_inverted);
+    return forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar, f,
+                              elem_energy, first_inverted);
+  });
 }
 
 /* ---------------------------------------------------------------------- */
 
-void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double sigma[6]) const
+void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double sigma[6],
+                             const double* state) const
 {
   for (int k = 0; k < 6; ++k)
     sigma[k] = 0;
+  // Evaluated on a copy of the element's state: output never advances the material history.
+  double scratch[4 * kRankineStateSize];
+  static_assert(kRankineStateSize <= 32, "element state scratch");
+  const int ns = state_offset_[e + 1] - state_offset_[e];
+  if (ns > 0) std::copy(state + state_offset_[e], state + state_offset_[e + 1], scratch);
+  const int shift[1] = {0};
+  const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
-  const double lam = mat_.lambda(), mu = mat_.mu();
-  const auto& c = mesh.conn[e];
-  const double* g = &geo_[offset_[e]];
-  const double* X = mesh.X.data();
-  double fl[12], detF;
-  if (mesh.etype[e] == ElemType::Tet4) {
-    double u[12];
-    for (int a = 0; a < 4; ++a)
-      for (int i = 0; i < 3; ++i)
-        u[3 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
+  const ElemType t = mesh.etype[e];
+  double s[6] = {0, 0, 0, 0, 0, 0};
+  with_law(mat_, dim_, mesh, shift, scratch, [&](auto& law) {
+    law.bind(0, mesh.conn[e]);
+    double fl[12], detF;
+    const double* g = &geo_[offset_[e]];
     if (corot)
-      tet_kernel<true>(g, u, lam, mu, fl, detF, sigma);
-    else
-      tet_kernel<false>(g, u, lam, mu, fl, detF, sigma);
+      return element_kernel<true>(t, mesh.conn[e].data(), g, mesh.X.data(), x, law, bbar, fl, detF,
+                                  s);
+    return element_kernel<false>(t, mesh.conn[e].data(), g, mesh.X.data(), x, law, bbar, fl, detF,
+                                 s);
+  });
+  if (t == ElemType::Tet4) {
+    std::copy(s, s + 6, sigma);
     return;
   }
-  const int n = nodes_per_elem(mesh.etype[e]);
-  double u[8], s4[4];
-  for (int a = 0; a < n; ++a)
-    for (int i = 0; i < 2; ++i)
-      u[2 * a + i] = x[3 * c[a] + i] - X[3 * c[a] + i];
-  if (mesh.etype[e] == ElemType::Tri3) {
-    if (corot)
-      tri_kernel<true>(g, u, lam, mu, fl, detF, s4);
-    else
-      tri_kernel<false>(g, u, lam, mu, fl, detF, s4);
-  } else {
-    if (corot)
-      quad_kernel<true>(g, u, lam, mu, fl, detF, s4);
-    else
-      quad_kernel<false>(g, u, lam, mu, fl, detF, s4);
-  }
-  sigma[0] = s4[0];
-  sigma[1] = s4[1];
-  sigma[2] = s4[2]; // plane strain: sigma_zz = lambda tr(eps) = nu (sxx + syy); axisymmetric: hoop
-  sigma[3] = s4[3];
+  sigma[0] = s[0];
+  sigma[1] = s[1];
+  sigma[2] = s[2]; // plane strain: sigma_zz = lambda tr(eps) = nu (sxx + syy); axisymmetric: hoop
+  sigma[3] = s[3];
 }
 
 double FeSpace::von_mises(const double s[6])

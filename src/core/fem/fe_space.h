@@ -46,13 +46,18 @@ public:
   // so that m a = f + f_ext. x: current coordinates (3 per node). Returns the strain energy of
   // those elements; per-element energies go to elem_energy[e] if given (0 for inactive ones).
   // An element with det F <= 0 sets *first_inverted (if non-null and still < 0); never throws.
+  // state: the material's per-point history (state_size() doubles, element e's points from
+  // state_offset(e)), advanced by this call; may be null for materials without state.
   double add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end, double* f,
-                             double* elem_energy, int* first_inverted) const;
+                             double* elem_energy, int* first_inverted,
+                             double* state = nullptr) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
   // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R
   // (corotational).
-  void element_stress(const Mesh& mesh, const double* x, int e, double sigma[6]) const;
+  // state: as for add_internal_forces; read only (evaluated on a copy).
+  void element_stress(const Mesh& mesh, const double* x, int e, double sigma[6],
+                      const double* state = nullptr) const;
   static double von_mises(const double s[6]);
 
   // Critical central-difference time step 2 / omega_max, with omega_max bounded from above
@@ -63,6 +68,9 @@ public:
   double characteristic_length(const Mesh& mesh, const double* x, int e) const;
 
   double reference_measure(int e) const { return measure_[e]; }
+  // Material history: doubles in all, and where element e's points start.
+  int state_size() const { return state_offset_.back(); }
+  int state_offset(int e) const { return state_offset_[e]; }
   bool axisymmetric() const { return axisym_; }
   const Material& material() const { return mat_; }
 
@@ -73,9 +81,10 @@ private:
   Material mat_;
   bool axisym_ = false;
   int dim_ = 3;
-  std::vector<int> offset_;     // start of element e's block in geo_
-  std::vector<double> geo_;     // per element: see fe_space.cpp for the block layouts
-  std::vector<double> measure_; // reference volume (3D) or area (2D)
+  std::vector<int> offset_;          // start of element e's block in geo_
+  std::vector<double> geo_;          // per element: see fe_space.cpp for the block layouts
+  std::vector<double> measure_;      // reference volume (3D) or area (2D)
+  std::vector<int> state_offset_{0}; // start of element e's material state
 };
 
 } // namespace fracdem

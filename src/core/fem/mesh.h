@@ -27,6 +27,12 @@ inline int nodes_per_elem(ElemType t)
   return 0;
 }
 
+// Integration points of the element kernels (tet4, tri3: one; quad4: 2x2 Gauss).
+inline int points_per_elem(ElemType t)
+{
+  return t == ElemType::Quad4 ? 4 : 1;
+}
+
 inline int elem_dim(ElemType t)
 {
   return t == ElemType::Tet4 ? 3 : 2;

@@ -1,0 +1,25 @@
+// The one table of constitutive models: keyword, per-point state size, syntax.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fem/material.h"
+
+namespace fracdem
+{
+
+struct MaterialModelInfo {
+  const char* keyword; // as written after `material` in fix fem/body
+  MaterialModel model;
+  int state_per_point; // doubles of history per integration point
+  bool fractures;      // drives nodal fracture (a failure map exists)
+  const char* syntax;  // arguments after the keyword, for error messages and docs
+};
+
+const std::vector<MaterialModelInfo>& material_models();
+// nullptr when no model has this keyword.
+const MaterialModelInfo* find_material_model(const std::string& keyword);
+const MaterialModelInfo& material_model_info(MaterialModel model);
+
+} // namespace fracdem

@@ -1,0 +1,235 @@
+// Rankine rotating-crack stress update, crack-band softening laws and their bookkeeping.
+#include "materials/rankine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fracdem
+{
+
+namespace
+{
+
+// State slots (see rankine.h).
+constexpr int kKappa = 0;
+constexpr int kBand = 1;
+constexpr int kDamage = 2;
+constexpr int kNormal = 3;
+constexpr int kDissipated = 6;
+constexpr int kEpsPrev = 7;
+constexpr int kSigPrev = 13;
+
+// Voigt double contraction with engineering shear in eps: the shear terms count once.
+inline double voigt_dot(const double a[6], const double b[6])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
+}
+
+// The strain the mode actually uses, so that the stored previous strain and the energies agree
+// with the stress that was computed from it.
+void effective_strain(StressMode mode, const double in[6], double e[6])
+{
+  for (int k = 0; k < 6; ++k)
+    e[k] = in[k];
+  if (mode == StressMode::Solid) return;
+  e[4] = e[5] = 0;
+  if (mode != StressMode::Axisymmetric) e[2] = 0; // plane strain: given; plane stress: ignored
+}
+
+void trial_stress(const RankineParams& p, StressMode mode, const double e[6], double s[6])
+{
+  const double mu = p.E / (2 * (1 + p.nu));
+  double lam = p.E * p.nu / ((1 + p.nu) * (1 - 2 * p.nu));
+  // Plane stress: eliminating eps_zz from sigma_zz = 0 gives lambda* = 2 lambda mu / (lambda +
+  // 2 mu) = E nu / (1 - nu^2); e[2] is already 0 so the 3D formula below does the rest.
+  if (mode == StressMode::PlaneStress) lam = p.E * p.nu / (1 - p.nu * p.nu);
+  const double tr = e[0] + e[1] + e[2];
+  for (int k = 0; k < 3; ++k)
+    s[k] = lam * tr + 2 * mu * e[k];
+  for (int k = 3; k < 6; ++k)
+    s[k] = mu * e[k];
+  if (mode == StressMode::PlaneStress) s[2] = 0;
+}
+
+// One Jacobi rotation annihilating a[p][q] (Numerical Recipes' stable form), accumulated into v.
+void jacobi_rotate(double a[3][3], double v[3][3], int p, int q)
+{
+  const double apq = a[p][q];
+  const double g = 100.0 * std::fabs(apq);
+  // Negligible next to both diagonal entries: the rotation could not change any of them.
+  const double app = std::fabs(a[p][p]), aqq = std::fabs(a[q][q]);
+  if (app + g == app && aqq + g == aqq) {
+    a[p][q] = a[q][p] = 0;
+    return;
+  }
+  const double hd = a[q][q] - a[p][p];
+  double t;
+  if (std::fabs(hd) + g == std::fabs(hd)) {
+    t = apq / hd; // theta^2 would overflow: t = 1 / (2 theta)
+  } else {
+    const double theta = 0.5 * hd / apq;
+    t = 1.0 / (std::fabs(theta) + std::sqrt(1.0 + theta * theta));
+    if (theta < 0) t = -t;
+  }
+  const double c = 1.0 / std::sqrt(1 + t * t), s = t * c, tau = s / (1 + c);
+  a[p][p] -= t * apq;
+  a[q][q] += t * apq;
+  a[p][q] = a[q][p] = 0;
+  const int r = 3 - p - q;
+  const double arp = a[r][p], arq = a[r][q];
+  a[r][p] = a[p][r] = arp - s * (arq + tau * arp);
+  a[r][q] = a[q][r] = arq + s * (arp - tau * arq);
+  for (int k = 0; k < 3; ++k) {
+    const double vp = v[k][p], vq = v[k][q];
+    v[k][p] = vp - s * (vq + tau * vp);
+    v[k][q] = vq + s * (vp - tau * vq);
+  }
+}
+
+// Principal values of a symmetric Voigt tensor, descending (ties keep coordinate order), and unit
+// vectors n[i] signed so that their largest-magnitude component is positive: a fixed sequence of
+// operations, hence bitwise reproducible.
+void principal(const double t[6], double val[3], double n[3][3])
+{
+  double a[3][3] = {{t[0], t[3], t[5]}, {t[3], t[1], t[4]}, {t[5], t[4], t[2]}};
+  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  // Quadratic convergence: a handful of sweeps reach exact zeros; 50 is only a safety net.
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    if (a[0][1] == 0 && a[0][2] == 0 && a[1][2] == 0) break;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q)
+        if (a[p][q] != 0) jacobi_rotate(a, v, p, q);
+  }
+  int idx[3] = {0, 1, 2};
+  for (int i = 1; i < 3; ++i) // stable insertion sort, descending
+    for (int j = i; j > 0 && a[idx[j]][idx[j]] > a[idx[j - 1]][idx[j - 1]]; --j)
+      std::swap(idx[j], idx[j - 1]);
+  for (int i = 0; i < 3; ++i) {
+    val[i] = a[idx[i]][idx[i]];
+    int big = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::fabs(v[k][idx[i]]) > std::fabs(v[big][idx[i]])) big = k;
+    const double sign = v[big][idx[i]] < 0 ? -1.0 : 1.0;
+    for (int k = 0; k < 3; ++k)
+      n[i][k] = sign * v[k][idx[i]];
+  }
+}
+
+// Extent of the element across direction n; 0 for a missing element (treated as degenerate).
+double band_width(const double n[3], const double* X, int nnodes)
+{
+  if (X == nullptr || nnodes <= 0) return 0;
+  double lo = 0, hi = 0;
+  for (int a = 0; a < nnodes; ++a) {
+    const double x = n[0] * X[3 * a] + n[1] * X[3 * a + 1] + n[2] * X[3 * a + 2];
+    if (a == 0 || x < lo) lo = x;
+    if (a == 0 || x > hi) hi = x;
+  }
+  return hi - lo;
+}
+
+// Stress f(kappa) still carried across the crack, kappa > kappa0. No softening branch (h <= 0 or
+// snap-back) means the limit of the law: a vertical drop to zero.
+double softening_stress(const RankineParams& p, double kappa, double h)
+{
+  const double k0 = p.ft / p.E;
+  if (!(h > 0)) return 0;
+  if (p.softening == Softening::Linear) {
+    const double kf = 2 * p.gf / (p.ft * h);
+    if (!(kf > k0) || kappa >= kf) return 0;
+    return p.ft * std::max(0.0, 1 - (kappa - k0) / (kf - k0));
+  }
+  const double ke = p.gf / (h * p.ft) - 0.5 * k0;
+  if (!(ke > 0)) return 0;
+  return p.ft * std::exp(-(kappa - k0) / ke);
+}
+
+// Updates kappa, h (at onset) and d from the major principal trial stress s1 along n1.
+void update_damage(const RankineParams& p, double s1, const double n1[3], const double* X,
+                   int nnodes, double* st)
+{
+  const double k0 = p.ft / p.E;
+  const double kappa_old = st[kKappa];
+  const double kappa = std::max(kappa_old, s1 / p.E);
+  st[kKappa] = kappa;
+  if (!(kappa > k0)) return;
+  if (!(kappa_old > k0)) st[kBand] = band_width(n1, X, nnodes); // onset: fix h once
+  const double d = 1 - softening_stress(p, kappa, st[kBand]) / (p.E * kappa);
+  st[kDamage] = std::max(st[kDamage], std::min(1.0, std::max(0.0, d)));
+}
+
+} // namespace
+
+double rankine_stress(const RankineParams& p, StressMode mode, const double eps_in[6],
+                      const double* elem_X, int nnodes, double* state, double sigma[6])
+{
+  double eps[6], str[6], s[3], n[3][3];
+  effective_strain(mode, eps_in, eps);
+  trial_stress(p, mode, eps, str);
+  principal(str, s, n);
+  update_damage(p, s[0], n[0], elem_X, nnodes, state);
+  const double d = state[kDamage];
+  for (int k = 0; k < 6; ++k)
+    sigma[k] = str[k];
+  if (d > 0) {
+    // Rotating crack: remove the share d of every tensile principal stress, in its current
+    // direction; compressive ones stay elastic.
+    for (int i = 0; i < 3; ++i) {
+      if (!(s[i] > 0)) continue;
+      const double ds = d * s[i];
+      const double* v = n[i];
+      sigma[0] -= ds * v[0] * v[0];
+      sigma[1] -= ds * v[1] * v[1];
+      sigma[2] -= ds * v[2] * v[2];
+      sigma[3] -= ds * v[0] * v[1];
+      sigma[4] -= ds * v[1] * v[2];
+      sigma[5] -= ds * v[2] * v[0];
+    }
+    if (s[0] > 0) std::copy(n[0], n[0] + 3, state + kNormal);
+    if (mode == StressMode::PlaneStress) sigma[2] = 0; // exact zeros, not round-off
+    if (mode != StressMode::Solid) sigma[4] = sigma[5] = 0;
+    // Trapezoidal work minus the change of stored energy (see rankine.h).
+    state[kDissipated] +=
+        0.5 * (voigt_dot(state + kSigPrev, eps) - voigt_dot(sigma, state + kEpsPrev));
+  }
+  std::copy(eps, eps + 6, state + kEpsPrev);
+  std::copy(sigma, sigma + 6, state + kSigPrev);
+  return 0.5 * voigt_dot(sigma, eps);
+}
+
+double rankine_damage(const double* state) { return state[kDamage]; }
+double rankine_dissipated(const double* state) { return state[kDissipated]; }
+const double* rankine_crack_normal(const double* state) { return state + kNormal; }
+double rankine_band_width(const double* state) { return state[kBand]; }
+
+bool rankine_cracked(const RankineParams& p, const double* state)
+{
+  const double kappa = state[kKappa], h = state[kBand];
+  const double k0 = p.ft / p.E;
+  if (!(kappa > k0)) return false;
+  if (p.softening == Softening::Linear) {
+    if (!(h > 0)) return true;
+    const double kf = 2 * p.gf / (p.ft * h);
+    return !(kf > k0) || kappa >= kf;
+  }
+  return softening_stress(p, kappa, h) <= 0.01 * p.ft;
+}
+
+double rankine_snapback_length(const RankineParams& p) { return 2 * p.E * p.gf / (p.ft * p.ft); }
+
+void rankine_check(const RankineParams& p)
+{
+  auto fail = [](const char* what, double v) {
+    throw std::invalid_argument(std::string("Rankine material: parameter ") + what + " (got " +
+                                std::to_string(v) + ")");
+  };
+  // Negated comparisons so that NaN fails as well.
+  if (!(p.E > 0)) fail("E must be > 0", p.E);
+  if (!(p.nu > -1 && p.nu < 0.5)) fail("nu must lie in (-1, 0.5)", p.nu);
+  if (!(p.ft > 0)) fail("ft (tensile strength) must be > 0", p.ft);
+  if (!(p.gf > 0)) fail("gf (fracture energy) must be > 0", p.gf);
+}
+
+} // namespace fracdem

@@ -1,0 +1,99 @@
+// Rankine rotating-crack material point with crack-band (fracture-energy) regularised softening.
+#pragma once
+
+#include <cstdint>
+
+namespace fracdem
+{
+
+// Model (small strain, isotropic, one integration point at a time; no host types involved):
+//
+//  * Trial stress sigma_tr = C : eps with lambda = E nu / ((1+nu)(1-2nu)), mu = E / (2(1+nu)).
+//  * Principal decomposition sigma_tr = sum_i s_i n_i n_i^T, s_1 >= s_2 >= s_3, by cyclic Jacobi
+//    to machine precision (deterministic: the same input gives the same bits). Ties keep the
+//    coordinate order; each n_i is signed so that its largest-magnitude component is positive.
+//  * Equivalent strain kappa = max over history of s_1 / E (never decreases). kappa0 = ft / E.
+//  * Softening curve f(kappa), the stress still carried across the crack for kappa > kappa0:
+//      Linear     : f = ft (1 - (kappa - kappa0) / (kappa_f - kappa0)), kappa_f = 2 gf / (ft h),
+//                   f = 0 for kappa >= kappa_f;
+//      Exponential: f = ft exp(-(kappa - kappa0) / kappa_e), kappa_e = gf / (h ft) - kappa0 / 2.
+//    Both dissipate exactly gf / h per unit volume in uniaxial tension (nu = 0) taken to complete
+//    failure, so the energy per unit crack area is gf whatever the element size (crack band).
+//  * h (crack-band width) is fixed once, at onset (first call with kappa > kappa0), as the extent
+//    of the element across the major principal direction n_1 at that moment:
+//      h = max_a (n_1 . X_a) - min_a (n_1 . X_a)   over the element's reference nodes X_a.
+//  * Damage d = 1 - f(kappa) / (E kappa), clamped to [0, 1], never decreasing.
+//  * Stress: sigma = sum_i s_i' n_i n_i^T, s_i' = (1 - d) s_i for s_i > 0 (every tensile principal
+//    stress is degraded along its current direction: rotating crack), s_i' = s_i for s_i <= 0
+//    (compression crosses a crack elastically). Unloading is secant, straight to the origin.
+//    While d = 0 the trial stress is returned as it is (bit for bit).
+//  * Dissipated energy density D: each call adds the trapezoidal work of the step minus the change
+//    of the stored secant energy psi = 0.5 sigma : eps, i.e. D += 0.5 (sigma_prev : eps -
+//    sigma : eps_prev), so that work = psi + D holds at every point, step by step. Steps with
+//    d = 0 add nothing (elastic steps dissipate nothing; C is symmetric).
+//
+// Stress modes (the 3x3 strain/stress in Voigt order xx, yy, zz, xy, yz, zx):
+//   Solid        : full 3D.
+//   PlaneStrain  : eps_zz = 0 and yz = zx = 0 are enforced (whatever the input holds there);
+//                  sigma_zz = lambda (eps_xx + eps_yy) follows and enters the principal stresses.
+//   PlaneStress  : in-plane stress from lambda* = 2 lambda mu / (lambda + 2 mu) and mu; eps_zz is
+//                  ignored, sigma_zz = sigma_yz = sigma_zx = 0 are returned.
+//   Axisymmetric : the zz slot is the hoop component (a principal direction of its own);
+//                  yz = zx = 0 are enforced.
+//
+// Limits the caller must respect (the kernel does not check them, it runs per point per step):
+//  * Validate the parameters once with rankine_check.
+//  * Snap-back: for h >= rankine_snapback_length(p) = 2 E gf / ft^2 no softening branch exists
+//    (kappa_f <= kappa0, kappa_e <= 0). Set-up must refuse such elements, e.g. every element
+//    whose largest node-to-node extent (a bound on h for any direction) reaches that length. If
+//    one gets through anyway, the kernel takes the limit of both laws as h -> snap-back length
+//    (a vertical drop: d = 1 at onset), which dissipates ft^2 / (2E) > gf / h; it never
+//    produces NaN or hardening.
+//  * h <= 0 at onset (all nodes on a plane normal to n_1, or elem_X == nullptr / nnodes <= 0) is
+//    a programming error: the point fails at once (d = 1), again without NaN.
+//
+// State layout (kRankineStateSize doubles; all zeros = virgin material):
+//   [0]      kappa   largest equivalent strain reached
+//   [1]      h       crack-band width, fixed at onset (0 before)
+//   [2]      d       damage
+//   [3..5]   n       crack normal: major principal direction, updated on every call with d > 0
+//                    and s_1 > 0 (kept as it was while no principal stress is tensile); 0 before
+//   [6]      D       dissipated energy per unit volume
+//   [7..12]  eps_prev  strain of the previous call, as used (after the mode's constraints)
+//   [13..18] sig_prev  stress of the previous call
+//   [19]     reserved (stays 0)
+
+enum class Softening : std::uint8_t { Linear, Exponential };
+// How the 3x3 strain/stress is read: see the model notes above.
+enum class StressMode : std::uint8_t { Solid, PlaneStrain, PlaneStress, Axisymmetric };
+
+struct RankineParams {
+  double E = 0, nu = 0;  // isotropic elastic constants
+  double ft = 0, gf = 0; // tensile strength, fracture energy per unit crack area
+  Softening softening = Softening::Linear;
+};
+
+constexpr int kRankineStateSize = 20;
+
+// Stress update. eps: small strain, Voigt with ENGINEERING shear (gamma). elem_X, nnodes: the
+// element's reference node coordinates (3 per node), read only on the call that reaches onset.
+// state: kRankineStateSize doubles, updated in place. sigma: Cauchy stress, Voigt (out).
+// Returns the recoverable (secant) strain energy density 0.5 sigma : eps.
+double rankine_stress(const RankineParams& p, StressMode mode, const double eps[6],
+                      const double* elem_X, int nnodes, double* state, double sigma[6]);
+
+double rankine_damage(const double* state);              // d in [0, 1]
+double rankine_dissipated(const double* state);          // dissipated energy per unit volume
+const double* rankine_crack_normal(const double* state); // unit vector, zeros before onset
+double rankine_band_width(const double* state);          // h, 0 before onset
+// True once the point carries no more tension: linear softening kappa >= kappa_f; exponential:
+// remaining strength f(kappa) <= 0.01 ft. Also true for the h <= 0 / snap-back failures above.
+bool rankine_cracked(const RankineParams& p, const double* state);
+// Largest crack-band width for which the softening law does not snap back: 2 E gf / ft^2 (both
+// laws).
+double rankine_snapback_length(const RankineParams& p);
+// Throws std::invalid_argument naming the parameter for E <= 0, nu outside (-1, 0.5), ft <= 0,
+// gf <= 0 (NaN fails too).
+void rankine_check(const RankineParams& p);
+
+} // namespace fracdem
