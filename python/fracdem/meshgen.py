@@ -1,4 +1,4 @@
-"""Structured Gmsh 2.2 meshes (tet4 boxes, tri3/quad4 rectangles) for examples and tests, no Gmsh needed."""
+"""Structured Gmsh 2.2 meshes (tet4 boxes, tri3/quad4 rectangles, fracture specimens), no Gmsh needed."""
 import itertools
 
 import numpy as np
@@ -197,8 +197,239 @@ def write_gmsh22(path, nodes, elements, groups=None, body_name="body"):
         f.write("$EndElements\n")
 
 
+# ---- fracture specimens: Brazilian disc, notched beam, notched block -----------------------
+# Node sets are written, like rect_mesh/box_tet_mesh's, as physical groups of boundary
+# elements of dimension dim - 1 (lines in 2D, triangles in 3D); the reader keeps their nodes.
+# A set that is not a chain of edges (a single node, or a line of nodes in 3D) is written as
+# degenerate elements ([n, n] lines, [a, b, b] triangles) that carry exactly those nodes.
+
+
+def _chain(ids, nper=2):
+    """Consecutive nodes of an ordered list as group elements of nper nodes (a lone node: [n]*nper)."""
+    ids = [int(i) for i in ids]
+    if len(ids) == 1:
+        return np.array([ids * nper])
+    return np.array([[a] + [b] * (nper - 1) for a, b in zip(ids[:-1], ids[1:])])
+
+
+def _ring_count(k):
+    """Nodes on ring k of a disc (spacing ~ ring step): a multiple of 4, so 0/90/180/270 deg are nodes."""
+    return 1 if k == 0 else 4 * max(1, int(round(np.pi * k / 2)))
+
+
+def _merge_rings(inner, outer, t_in, t_out):
+    """Triangles between two node arcs ordered by angle (fractions t); starts and ends on their
+    first/last pairs, so the radial edges at both ends are mesh edges."""
+    tris, p, q = [], 0, 0
+    while p < len(inner) - 1 or q < len(outer) - 1:
+        if q == len(outer) - 1 or (p < len(inner) - 1 and t_in[p + 1] < t_out[q + 1]):
+            tris.append([inner[p], outer[q], inner[p + 1]])
+            p += 1
+        else:
+            tris.append([inner[p], outer[q], outer[q + 1]])
+            q += 1
+    return tris
+
+
+def disc(radius, h, element="tri3", flat_angle_deg=10.0):
+    """Brazilian-test disc of radius `radius` centred at (0,0), z = 0: tri3 on concentric rings
+    (ring step radius/round(radius/h), ~h along each ring), triangulated ring by ring.
+
+    The mesh is mirror symmetric in x and in y; rings have nodes at 0/90/180/270 deg, so the
+    nodes on x = 0 are joined by a chain of edges from (0, R) to (0, -R). Returns
+    (nodes[N,3], tri3[M,3] counter-clockwise, groups{name: lines[K,2]}) with groups
+    "top"/"bottom" (boundary nodes within +-flat_angle_deg/2 of 90/270 deg) and "boundary".
+    """
+    if element != "tri3":
+        raise ValueError(f"disc: element must be 'tri3', got {element!r}")
+    n = max(1, int(round(radius / h)))
+    counts = [_ring_count(k) for k in range(n + 1)]
+    first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    X = np.zeros((sum(counts), 3))
+    for k in range(1, n + 1):
+        m, r = counts[k], radius * k / n
+        q = m // 4
+        th = 2 * np.pi * np.arange(q + 1) / m
+        xq, yq = r * np.cos(th), r * np.sin(th)
+        xq[q], yq[0] = 0.0, 0.0
+        xq[0], yq[q] = r, r
+        j = np.arange(m)
+        base = np.select([j <= q, j <= 2 * q, j <= 3 * q], [j, 2 * q - j, j - 2 * q], m - j)
+        sx = np.where((j > q) & (j < 3 * q), -1.0, 1.0)
+        sy = np.where(j > 2 * q, -1.0, 1.0)
+        X[first[k] + j, 0], X[first[k] + j, 1] = sx * xq[base], sy * yq[base]
+
+    def ring(k, js):
+        return [int(first[k] + (j % counts[k])) for j in js]
+
+    quarter = []  # first quadrant, then mirrored
+    for k in range(1, n + 1):
+        jo = range(counts[k] // 4 + 1)
+        if k == 1:
+            quarter += [[0, a, b] for a, b in zip(ring(1, jo)[:-1], ring(1, jo)[1:])]
+        else:
+            ji = range(counts[k - 1] // 4 + 1)
+            quarter += _merge_rings(ring(k - 1, ji), ring(k, jo),
+                                    [j / counts[k - 1] for j in ji], [j / counts[k] for j in jo])
+    kk = np.searchsorted(first, np.arange(len(X)), side="right") - 1
+    jj = np.arange(len(X)) - first[kk]
+    m_all = np.array(counts)[kk]
+    mirror_x = np.where(kk == 0, 0, first[kk] + (m_all // 2 - jj) % m_all)  # x -> -x
+    mirror_y = np.where(kk == 0, 0, first[kk] + (-jj) % m_all)  # y -> -y
+    T = np.array(quarter)
+    T = np.vstack([T, mirror_x[T][:, ::-1]])
+    T = np.vstack([T, mirror_y[T][:, ::-1]])
+    m = counts[n]
+    bnd = ring(n, range(m))
+    groups = {}
+    for name, centre in (("top", m // 4), ("bottom", 3 * m // 4)):
+        arc = [o for o in range(1 - m // 2, m // 2 + 1) if abs(360.0 * o / m) <= flat_angle_deg / 2 + 1e-9]
+        groups[name] = _chain(ring(n, [centre + o for o in arc]))
+    groups["boundary"] = _chain(bnd + bnd[:1])
+    return X, T, groups
+
+
+def _axis(breaks, h):
+    """Coordinates from 0 to max(breaks), ~h apart, with a node on every break (> 0)."""
+    b = np.unique([0.0] + [float(v) for v in breaks if v > 0])
+    pos = [0.0]
+    for lo, hi in zip(b[:-1], b[1:]):
+        pos += list(np.linspace(lo, hi, max(1, int(round((hi - lo) / h))) + 1)[1:])
+    return np.array(pos)
+
+
+def _sym_axis(breaks, h):
+    """_axis mirrored: -max..max, exactly symmetric, with a node on 0."""
+    pos = _axis(breaks, h)
+    return np.concatenate([-pos[:0:-1], pos])
+
+
+def _kuhn_tets(xs, ys, zs):
+    """box_tet_mesh_axes(xs, ys, zs)[:2] without its per-tet Python loop: same nodes, same tets."""
+    n = np.array([len(xs), len(ys), len(zs)])
+    X = np.column_stack([np.asarray(c, float)[m.ravel(order="F")] for c, m in
+                         zip((xs, ys, zs), np.meshgrid(*map(np.arange, n), indexing="ij"))])
+    cell = np.stack(np.meshgrid(*map(np.arange, n - 1), indexing="ij"), axis=-1).reshape(-1, 3)
+    tets = []
+    for perm in itertools.permutations(range(3)):
+        p, path = np.zeros(3, int), [np.zeros(3, int)]
+        for ax in perm:
+            p = p.copy()
+            p[ax] = 1
+            path.append(p)
+        tets.append(np.stack([((cell + q) * [1, n[0], n[0] * n[1]]).sum(axis=1) for q in path], axis=1))
+    T = np.stack(tets, axis=1).reshape(-1, 4)
+    a, b, c, d = (X[T[:, k]] for k in range(4))
+    neg = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) < 0
+    T[neg, 2], T[neg, 3] = T[neg, 3], T[neg, 2].copy()
+    return X, T
+
+
+def _cut_notch(X, E, a, width, tol):
+    """Slot |x| < width/2, y < a: drop elements whose centroid lies in it; width 0 splits the
+    mesh along x = 0 below y = a instead (elements with centroid x < 0 get copies, appended, of
+    the nodes at x = 0, y < a). Returns (nodes, elements), unused nodes dropped."""
+    c = X[E].mean(axis=1)
+    E = E[~((np.abs(c[:, 0]) < width / 2) & (c[:, 1] < a))].copy()
+    if width == 0 and a > 0:
+        seam = np.flatnonzero((np.abs(X[:, 0]) < tol) & (X[:, 1] < a - tol))
+        copy = -np.ones(len(X), dtype=int)
+        copy[seam] = len(X) + np.arange(len(seam))
+        left = X[E].mean(axis=1)[:, 0] < 0
+        sub = E[left]
+        E[left] = np.where(copy[sub] >= 0, copy[sub], sub)
+        X = np.vstack([X, X[seam]])
+    return compact(X, E)
+
+
+def _find(X, x, y, tol):
+    """Node ids at (x, y) (any z), sorted by z."""
+    ids = np.flatnonzero((np.abs(X[:, 0] - x) < tol) & (np.abs(X[:, 1] - y) < tol))
+    return ids[np.argsort(X[ids, 2])]
+
+
+def notched_beam(length, depth, notch_depth, h, element="tri3", notch_width=None, span=None):
+    """Three-point-bending beam [-L/2, L/2] x [0, depth] (z = 0), tri3 or quad4 on a grid of
+    spacing ~h with grid lines on x = 0, +-notch_width/2, +-span/2 and y = notch_depth.
+
+    Notch at x = 0 from y = 0 to notch_depth: the elements inside |x| < notch_width/2 are
+    removed; notch_width defaults to 2 h, the two element columns beside x = 0 (the narrowest
+    slot whose tip (0, notch_depth) is a node); notch_width = 0 gives a zero-width cut whose two
+    faces have distinct nodes at the same coordinates. tri3 diagonals are mirrored for x < 0,
+    so the mesh is symmetric. span defaults to 0.9 L. Returns (nodes, elements, groups):
+    "support_left"/"support_right" = the node (-+span/2, 0), "load" = the node (0, depth),
+    "ligament" = the nodes on x = 0 from (0, notch_depth) to (0, depth).
+    """
+    if element not in ("tri3", "quad4"):
+        raise ValueError(f"element must be 'tri3' or 'quad4', got {element!r}")
+    span = 0.9 * length if span is None else span
+    width = 2 * h if notch_width is None else notch_width
+    if not (0 <= width / 2 < span / 2 < length / 2 + 1e-12) or not 0 <= notch_depth < depth:
+        raise ValueError("need 0 <= notch_width < span <= length and 0 <= notch_depth < depth")
+    xs = _sym_axis([width / 2, span / 2, length / 2], h)
+    ys = _axis([notch_depth, depth], h)
+    nx = len(xs) - 1
+    X = np.array([[x, y, 0.0] for y in ys for x in xs])
+    elems = []
+    for j, i in itertools.product(range(len(ys) - 1), range(nx)):
+        a, d = i + (nx + 1) * j, i + (nx + 1) * (j + 1)
+        b, c = a + 1, d + 1
+        if element == "quad4":
+            elems.append([a, b, c, d])
+        elif xs[i] >= 0:
+            elems += [[a, b, c], [a, c, d]]
+        else:
+            elems += [[a, b, d], [b, c, d]]
+    tol = 1e-9 * max(length, depth)
+    X, E = _cut_notch(X, np.array(elems), notch_depth, width, tol)
+    lig = np.flatnonzero((np.abs(X[:, 0]) < tol) & (X[:, 1] > notch_depth - tol))
+    groups = {
+        "support_left": _chain(_find(X, -span / 2, 0.0, tol)),
+        "support_right": _chain(_find(X, span / 2, 0.0, tol)),
+        "load": _chain(_find(X, 0.0, depth, tol)),
+        "ligament": _chain(lig[np.argsort(X[lig, 1])]),
+    }
+    return X, E, groups
+
+
+def notched_block_tet(lx, ly, lz, notch_depth, h, notch_width=0.0, span=None):
+    """3D notched block [-lx/2, lx/2] x [0, ly] x [0, lz] of tet4 (Kuhn-split hexes as in
+    box_tet_mesh, grid ~h with planes x = 0, +-span/2, y = notch_depth).
+
+    Notch through the whole z thickness at x = 0 from y = 0 to notch_depth: by default
+    (notch_width = 0) a cut, the hexes on either side of x = 0 having their own copies of the
+    nodes at x = 0, y < notch_depth, so the halves meet only at y >= notch_depth; notch_width
+    > 0 removes the hexes inside |x| < notch_width/2 instead. span defaults to 0.9 lx. Returns
+    (nodes, tets, groups) with groups (triangles, degenerate along lines) "support_left"/
+    "support_right" = the nodes on y = 0, x = -+span/2 (all z), "load" = the nodes on y = ly,
+    x = 0 (all z), and "ligament" = the quads of the plane x = 0 above the notch tip.
+    """
+    span = 0.9 * lx if span is None else span
+    if not (0 <= notch_width / 2 < span / 2 < lx / 2 + 1e-12) or not 0 <= notch_depth < ly:
+        raise ValueError("need 0 <= notch_width < span <= lx and 0 <= notch_depth < ly")
+    xs = _sym_axis([notch_width / 2, span / 2, lx / 2], h)
+    ys = _axis([notch_depth, ly], h)
+    zs = np.linspace(0.0, lz, max(1, int(round(lz / h))) + 1)
+    X, T = _kuhn_tets(xs, ys, zs)
+    tol = 1e-9 * max(lx, ly, lz)
+    X, T = _cut_notch(X, T, notch_depth, notch_width, tol)
+    plane = np.flatnonzero((np.abs(X[:, 0]) < tol) & (X[:, 1] > notch_depth - tol))
+    at = {(int(np.argmin(np.abs(ys - X[n, 1]))), int(np.argmin(np.abs(zs - X[n, 2])))): n for n in plane}
+    j0 = int(np.argmin(np.abs(ys - notch_depth)))
+    lig = [[at[j, k], at[j, k + 1], at[j + 1, k + 1], at[j + 1, k]]
+           for j in range(j0, len(ys) - 1) for k in range(len(zs) - 1)]
+    groups = {
+        "support_left": _chain(_find(X, -span / 2, 0.0, tol), 3),
+        "support_right": _chain(_find(X, span / 2, 0.0, tol), 3),
+        "load": _chain(_find(X, 0.0, ly, tol), 3),
+        "ligament": np.array(lig),
+    }
+    return X, T, groups
+
+
 def main(argv=None):
-    """CLI: python -m fracdem.meshgen box NX NY NZ LX LY LZ [OX OY OZ] -o out.msh | rect ..."""
+    """CLI: python -m fracdem.meshgen box NX NY NZ LX LY LZ [OX OY OZ] -o out.msh | rect ... |
+    disc R H OUT.msh | notched_beam L D A H OUT.msh | notched_block LX LY LZ A H OUT.msh"""
     import argparse
 
     p = argparse.ArgumentParser(prog="python -m fracdem.meshgen", description=main.__doc__)
@@ -214,11 +445,39 @@ def main(argv=None):
     r.add_argument("--element", choices=("tri3", "quad4"), default="tri3")
     for s in (b, r):
         s.add_argument("-o", "--output", required=True)
+    d = sub.add_parser("disc", help="tri3 Brazilian disc R, spacing H; groups top, bottom, boundary")
+    d.add_argument("R", type=float)
+    d.add_argument("H", type=float)
+    d.add_argument("--flat", type=float, default=10.0, help="top/bottom arc, degrees (default 10)")
+    nb = sub.add_parser("notched_beam", help="2D notched beam L x D, notch depth A, spacing H; groups "
+                        "support_left, support_right, load, ligament")
+    nb.add_argument("L", type=float)
+    nb.add_argument("D", type=float)
+    nb.add_argument("A", type=float)
+    nb.add_argument("H", type=float)
+    nb.add_argument("--element", choices=("tri3", "quad4"), default="tri3")
+    nk = sub.add_parser("notched_block", help="tet4 notched block LX x LY x LZ, notch depth A, spacing H; "
+                        "groups support_left, support_right, load, ligament")
+    for name in ("LX", "LY", "LZ", "A", "H"):
+        nk.add_argument(name, type=float)
+    for s in (nb, nk):
+        s.add_argument("--span", type=float, default=None, help="support span (default 0.9 length)")
+        s.add_argument("--notch-width", type=float, default=None,
+                       help="slot width; 0 = a cut with duplicated face nodes (defaults: beam 2 H, block 0)")
+    for s in (d, nb, nk):
+        s.add_argument("output", metavar="OUT.msh")
     a = p.parse_args(argv)
     if a.kind == "box":
         X, E, G = box_tet_mesh(*a.n, *a.l, origin=a.origin)
-    else:
+    elif a.kind == "rect":
         X, E, G = rect_mesh(*a.n, *a.l, origin=a.origin, element=a.element)
+    elif a.kind == "disc":
+        X, E, G = disc(a.R, a.H, flat_angle_deg=a.flat)
+    elif a.kind == "notched_beam":
+        X, E, G = notched_beam(a.L, a.D, a.A, a.H, element=a.element, notch_width=a.notch_width, span=a.span)
+    else:
+        X, E, G = notched_block_tet(a.LX, a.LY, a.LZ, a.A, a.H, span=a.span,
+                                    notch_width=0.0 if a.notch_width is None else a.notch_width)
     write_gmsh22(a.output, X, E, G)
     print(f"wrote {a.output}: {len(X)} nodes, {len(E)} elements")
 

@@ -25,6 +25,8 @@
 #include "contact/contact_spread.h"
 #include "contact/geometry.h"
 #include "io/gmsh_reader.h"
+#include "fracture/nodal_fracture.h"
+#include "materials/material_table.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -46,6 +48,11 @@ const std::map<std::string, fracdem::NormalModel> kNormalModelTable = {
 const std::map<std::string, fracdem::PlaneMode> kPlaneModeTable = {
     {"strain", fracdem::PlaneMode::PlaneStrain},
     {"axisymmetric", fracdem::PlaneMode::Axisymmetric},
+    {"stress", fracdem::PlaneMode::PlaneStress},
+};
+const std::map<std::string, fracdem::Softening> kSofteningTable = {
+    {"linear", fracdem::Softening::Linear},
+    {"exponential", fracdem::Softening::Exponential},
 };
 
 template <typename T>
@@ -80,6 +87,9 @@ enum VectorIndex {
   kMomentumX,
   kMomentumY,
   kMomentumZ,
+  kDissipated,
+  kSplitNodes,
+  kFragments,
   kVectorSize
 };
 
@@ -181,7 +191,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       material_.kinematics = lookup(error, kKinematicsTable, kw, arg[iarg + 1]);
       iarg += 2;
     } else if (!strcmp(kw, "plane")) {
-      need(iarg, 1, kw, "strain or axisymmetric");
+      need(iarg, 1, kw, "strain, stress or axisymmetric");
       material_.plane = lookup(error, kPlaneModeTable, kw, arg[iarg + 1]);
       iarg += 2;
     } else if (!strcmp(kw, "thickness")) {
@@ -231,6 +241,10 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 2;
     } else if (!strcmp(kw, "motion")) {
       parse_motion(narg, arg, iarg);
+    } else if (!strcmp(kw, "material")) {
+      parse_material(narg, arg, iarg);
+    } else if (!strcmp(kw, "fracture")) {
+      parse_fracture(narg, arg, iarg);
     } else if (!strcmp(kw, "contact_model")) {
       need(iarg, 1, kw, "hertz or hooke");
       normal_model_ = lookup(error, kNormalModelTable, kw, arg[iarg + 1]);
@@ -311,6 +325,67 @@ void FixFemBody::parse_motion(int narg, char** arg, int& iarg)
   }
 }
 
+// material MODEL [model arguments]: the model from the core's material table.
+void FixFemBody::parse_material(int narg, char** arg, int& iarg)
+{
+  std::string models;
+  for (const auto& m : fracdem::material_models())
+    models += std::string(models.empty() ? "" : " | ") + m.keyword + " " + m.syntax;
+  const fracdem::MaterialModelInfo* info =
+      iarg + 1 < narg ? fracdem::find_material_model(arg[iarg + 1]) : nullptr;
+  if (!info) {
+    const std::string msg = std::string(kStyle) + ": keyword 'material' expects " + models;
+    error->all(FLERR, msg.c_str());
+  }
+  material_.model = info->model;
+  iarg += 2;
+  bool have_ft = false, have_gf = false;
+  while (material_.model == fracdem::MaterialModel::Rankine && iarg + 1 < narg) {
+    const char* sub = arg[iarg];
+    if (!strcmp(sub, "strength")) {
+      material_.ft = force->numeric(FLERR, arg[iarg + 1]);
+      have_ft = true;
+    } else if (!strcmp(sub, "fracture_energy")) {
+      material_.gf = force->numeric(FLERR, arg[iarg + 1]);
+      have_gf = true;
+    } else if (!strcmp(sub, "softening")) {
+      material_.softening =
+          lookup(error, kSofteningTable, "material rankine softening", arg[iarg + 1]);
+    } else {
+      break;
+    }
+    iarg += 2;
+  }
+  if (material_.model == fracdem::MaterialModel::Rankine && !(have_ft && have_gf)) {
+    const std::string msg = std::string(kStyle) + ": keyword 'material rankine' expects " +
+                            info->syntax + " (strength and fracture_energy are required)";
+    error->all(FLERR, msg.c_str());
+  }
+}
+
+// fracture nodal [every N]
+void FixFemBody::parse_fracture(int narg, char** arg, int& iarg)
+{
+  if (iarg + 1 >= narg || strcmp(arg[iarg + 1], "nodal") != 0)
+    error->all(FLERR, "fix fem/body: keyword 'fracture' expects 'nodal [every N]'");
+  fracture_every_ = 1;
+  iarg += 2;
+  while (iarg + 1 < narg) {
+    if (!strcmp(arg[iarg], "every")) {
+      fracture_every_ = force->inumeric(FLERR, arg[iarg + 1]);
+      if (fracture_every_ < 1)
+        error->all(FLERR, "fix fem/body: keyword 'fracture nodal every' expects N >= 1");
+    } else if (!strcmp(arg[iarg], "min_size")) {
+      error->all(FLERR, "fix fem/body: keyword 'fracture nodal min_size': cracks through "
+                        "elements are not available yet; cracks follow element boundaries "
+                        "(leave out min_size)");
+    } else {
+      break;
+    }
+    iarg += 2;
+  }
+}
+
 void FixFemBody::check_arguments()
 {
   if (surface_type_ < 1 || surface_type_ > atom->ntypes) {
@@ -336,6 +411,22 @@ void FixFemBody::check_arguments()
       error->all(FLERR, "fix fem/body: 'fixed', 'velocity' and 'prescribed_velocity' apply to "
                         "deformable bodies; a rigid body moves by 'motion'");
     if (!have_density_) material_.rho = 1.0; // only used for the (unused) mass of a rigid body
+    if (material_.model != fracdem::MaterialModel::Elastic || fracture_every_ > 0)
+      error->all(FLERR, "fix fem/body: keywords 'material' and 'fracture' apply to deformable "
+                        "bodies; a rigid body neither deforms nor breaks");
+  }
+  if (material_.model == fracdem::MaterialModel::Rankine) {
+    try {
+      fracdem::rankine_check(material_.rankine());
+    } catch (const std::exception& e) {
+      const std::string msg = std::string(kStyle) + ": keyword 'material rankine': " + e.what();
+      error->all(FLERR, msg.c_str());
+    }
+  }
+  if (fracture_every_ > 0 && !fracdem::material_model_info(material_.model).fractures) {
+    const std::string msg = std::string(kStyle) + ": keyword 'fracture' needs a material that " +
+                            "fails, e.g. 'material rankine strength FT fracture_energy GF'";
+    error->all(FLERR, msg.c_str());
   }
   if (compliance_combined_ < 0) compliance_combined_ = rigid_ ? 1 : 0;
 }
@@ -375,12 +466,44 @@ void FixFemBody::load_mesh()
   for (const auto& s : initial_velocity_)
     node_set(s.set, "velocity"); // validate names now
 
-  // Split element work evenly; every rank holds the whole body (replicated).
-  const long long ne = body_.mesh().num_elems();
-  body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
-                          static_cast<int>((ne * (comm->me + 1)) / comm->nprocs));
+  // Every rank holds the whole body (replicated). The element work of a material without
+  // history is split evenly; one with history (softening, cracks) is advanced on every rank, so
+  // that every replica holds the whole material state (fracture decisions, restart).
+  split_element_work_ = body_.space().state_size() == 0 && comm->nprocs > 1;
+  if (split_element_work_) {
+    const long long ne = body_.mesh().num_elems();
+    body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
+                            static_cast<int>((ne * (comm->me + 1)) / comm->nprocs));
+  }
   contact_.rebuild_surface(body_.mesh());
+  check_crack_band();
   log_body();
+}
+
+// The softening law snaps back in elements wider than 2 E G_f / f_t^2: refuse them by name.
+void FixFemBody::check_crack_band()
+{
+  if (material_.model != fracdem::MaterialModel::Rankine) return;
+  const double limit = fracdem::rankine_snapback_length(material_.rankine());
+  const fracdem::Mesh& mesh = body_.mesh();
+  int worst = -1;
+  double hmax = 0;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    const double h = fracdem::element_diameter(mesh, e);
+    if (h > hmax) {
+      hmax = h;
+      worst = e;
+    }
+  }
+  if (hmax >= limit) {
+    char msg[512];
+    snprintf(msg, sizeof(msg),
+             "fix fem/body %s: keyword 'material rankine': element %d of mesh '%s' is %g wide, "
+             "above the snap-back limit 2 E G_f / f_t^2 = %g of its softening law; refine the "
+             "mesh to elements below %g (or raise fracture_energy / lower strength)",
+             id, worst, mesh_file_.c_str(), hmax, limit, limit);
+    error->all(FLERR, msg);
+  }
 }
 
 void FixFemBody::log_body()
@@ -476,8 +599,8 @@ void FixFemBody::init()
                         energy_file_ + "' for writing";
       error->one(FLERR, msg.c_str());
     }
-    fprintf(energy_fp_,
-            "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements\n");
+    fprintf(energy_fp_, "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
+                        "fracture_energy,split_nodes,fragments\n");
   }
   check_time_step();
 }
@@ -557,6 +680,7 @@ void FixFemBody::final_integrate()
 {
   if (rigid_) return;
   body_.half_kick(update->dt);
+  if (fracture_every_ > 0 && update->ntimestep % fracture_every_ == 0) fracture();
   if (energy_fp_ && update->ntimestep % energy_every_ == 0) write_energy_row();
 }
 
@@ -599,11 +723,14 @@ void FixFemBody::compute_forces()
 
   double scalars[3] = {local_energy, static_cast<double>(res.contacts),
                        static_cast<double>(first_inverted >= 0 ? first_inverted + 1 : 0)};
-  if (comm->nprocs > 1) {
+  if (split_element_work_) {
     MPI_Allreduce(MPI_IN_PLACE, body_.forces_data(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
     MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
     MPI_Allreduce(MPI_IN_PLACE, scalars, 2, MPI_DOUBLE, MPI_SUM, world);
     MPI_Allreduce(MPI_IN_PLACE, &scalars[2], 1, MPI_DOUBLE, MPI_MAX, world);
+  } else if (comm->nprocs > 1) { // element work replicated: only the contact shares are summed
+    MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(MPI_IN_PLACE, &scalars[1], 1, MPI_DOUBLE, MPI_SUM, world);
   }
   ncontacts_ = static_cast<int>(scalars[1]);
   if (scalars[2] > 0) {
@@ -664,8 +791,78 @@ double FixFemBody::compute_vector(int i)
   case kMomentumY:
   case kMomentumZ:
     return body_.momentum(i - kMomentumX);
+  case kDissipated:
+    return body_.dissipated_energy();
+  case kSplitNodes:
+    return split_nodes();
+  case kFragments:
+    return fragments();
   }
   return 0.0;
+}
+
+int FixFemBody::split_nodes() const
+{
+  const auto& parents = body_.parents();
+  return static_cast<int>(parents.size() - std::count(parents.begin(), parents.end(), -1));
+}
+
+int FixFemBody::fragments() const
+{
+  std::vector<int> comp;
+  return fracdem::element_components(body_.mesh(), comp);
+}
+
+/* ----------------------------------------------------------------------
+   nodal fracture: failure map, crack points, node splits (every replica
+   makes the same splits from the same state), then the new crack faces
+   join the contact surface at once
+------------------------------------------------------------------------- */
+
+void FixFemBody::fracture()
+{
+  fracdem::FailureMap map;
+  fracdem::build_failure_map(body_, map);
+  const std::vector<int> points = fracdem::crack_points(map);
+  if (points.empty()) return;
+  const std::vector<fracdem::SplitEvent> events = fracdem::insert_cracks(body_, map, points);
+  if (events.empty()) return;
+  // Replicas must stay identical: a rank that split differently stops the run at once.
+  int counts[2] = {body_.num_nodes(), -body_.num_nodes()};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT, MPI_MAX, world);
+  if (counts[0] != -counts[1])
+    error->all(FLERR, "fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
+  contact_.rebuild_surface(body_.mesh());
+  log_splits(events);
+  const double dt_before = dt_stable_;
+  dt_stable_ = body_.stable_time_step();
+  if (dt_stable_ < update->dt) {
+    char msg[256];
+    snprintf(msg, sizeof(msg),
+             "fix fem/body %s: after cracking at step " BIGINT_FORMAT
+             " the stable FE time step is %g < host time step %g",
+             id, update->ntimestep, dt_stable_, update->dt);
+    error->all(FLERR, msg);
+  }
+  (void)dt_before;
+}
+
+void FixFemBody::log_splits(const std::vector<fracdem::SplitEvent>& events)
+{
+  if (comm->me != 0) return;
+  for (const fracdem::SplitEvent& ev : events) {
+    char line[256];
+    snprintf(line, sizeof(line),
+             "fix fem/body %s: step " BIGINT_FORMAT
+             ": crack at node %d -> new node %d, normal (%.3f %.3f %.3f), %d elements moved\n",
+             id, update->ntimestep, ev.node, ev.copy, ev.normal[0], ev.normal[1], ev.normal[2],
+             ev.elements_moved);
+    if (logfile) fputs(line, logfile);
+    if (screen && events.size() <= 4) fputs(line, screen);
+  }
+  if (screen && events.size() > 4)
+    fprintf(screen, "fix fem/body %s: step " BIGINT_FORMAT ": %zu node splits (see log)\n", id,
+            update->ntimestep, events.size());
 }
 
 void FixFemBody::write_energy_row()
@@ -673,9 +870,10 @@ void FixFemBody::write_energy_row()
   if (update->ntimestep == last_energy_step_) return; // a new run starts where the last ended
   last_energy_step_ = update->ntimestep;
   const double ke = body_.kinetic_energy(), se = body_.strain_energy();
-  fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d\n",
+  fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d\n",
           update->ntimestep, body_.time(), ke, se, body_.external_work(), body_.contact_work(),
-          ke + se, body_.num_nodes(), body_.mesh().num_active_elems());
+          ke + se, body_.num_nodes(), body_.mesh().num_active_elems(), body_.dissipated_energy(),
+          split_nodes(), fragments());
   fflush(energy_fp_);
 }
 

@@ -11,6 +11,7 @@
 
 #include "contact/particle_facet.h"
 #include "fem/body.h"
+#include "fracture/nodal_fracture.h"
 
 namespace LAMMPS_NS
 {
@@ -73,9 +74,12 @@ private:
   // ---- set-up helpers ----
   void parse_arguments(int narg, char** arg);
   void parse_motion(int narg, char** arg, int& iarg);
+  void parse_material(int narg, char** arg, int& iarg);
+  void parse_fracture(int narg, char** arg, int& iarg);
   void check_arguments();
   void load_mesh();
   void log_body();
+  void check_crack_band();
   std::vector<int> node_set(const std::string& name, const char* keyword) const;
   void read_contact_properties();
   void check_time_step();
@@ -84,6 +88,10 @@ private:
   void compute_forces();
   fracdem::ParticleArrays particle_arrays() const;
   void write_energy_row();
+  void fracture();
+  void log_splits(const std::vector<fracdem::SplitEvent>& events);
+  int split_nodes() const;
+  int fragments() const;
 
   // ---- arguments ----
   std::string mesh_file_;
@@ -101,6 +109,8 @@ private:
   double buffer_ = -1;           // search buffer; -1: host neighbour skin
   bool dt_check_error_ = true;
   bool apply_gravity_ = true;
+  int fracture_every_ = 0;          // 0: no fracture
+  bool split_element_work_ = false; // element work shared among ranks (else replicated)
   std::string energy_file_;
   int energy_every_ = 0;
   FILE* energy_fp_ = nullptr;

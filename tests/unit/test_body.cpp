@@ -125,20 +125,13 @@ TEST_P(BodySplit, ConservesMassMomentumAndForce)
     if (count >= (GetParam() == ElemType::Tet4 ? 12 : 4)) node = n;
   }
   ASSERT_GE(node, 0);
-  std::vector<int> right;
-  for (int e = 0; e < mesh.num_elems(); ++e) {
-    double cx = 0;
-    bool has = false;
-    const int k = nodes_per_elem(mesh.etype[e]);
-    for (int a = 0; a < k; ++a) {
-      cx += mesh.X[3 * mesh.conn[e][a]] / k;
-      has |= mesh.conn[e][a] == node;
-    }
-    if (has && cx > mesh.X[3 * node]) right.push_back(e);
-  }
+  const double normal[3] = {1, 0, 0};
+  const SplitPlan plan = b.plan_split(node, normal);
+  ASSERT_TRUE(plan.splittable());
+  const std::vector<int>& right = plan.side_b;
   ASSERT_FALSE(right.empty());
   const double m_node = b.masses()[node];
-  const int copy = b.split_node(node, right);
+  const int copy = b.split_node(plan);
   EXPECT_EQ(copy, b.num_nodes() - 1);
   EXPECT_EQ(b.parents()[copy], node);
   EXPECT_GT(b.masses()[copy], 0.0);
@@ -173,7 +166,8 @@ TEST(Body, RestartStateRestoresSplitTopologyExactly)
 {
   Body a = shaken_body(ElemType::Tri3);
   a.advance_time(0.25);
-  const int copy = a.split_node(6, {a.mesh().num_elems() - 1 > 12 ? 13 : 0});
+  const double normal[3] = {1, 0, 0};
+  const int copy = a.split_node(a.plan_split(6, normal));
   a.erode(2);
   std::vector<double> buf;
   a.pack_state(buf);

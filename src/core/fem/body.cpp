@@ -1,6 +1,8 @@
 // The finite-element body: explicit update, force assembly, topology operations and restart state.
 #include "fem/body.h"
 
+#include "materials/material_table.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -21,6 +23,7 @@ void Body::build(Mesh mesh, const Material& material, bool rigid)
   std::fill(parent_.begin(), parent_.end(), -1);
   derive_masses();
   state_.assign(space_.state_size(), 0.0);
+  stars_.build(mesh_);
   elem_begin_ = 0;
   elem_end_ = mesh_.num_elems();
 }
@@ -145,6 +148,35 @@ double Body::add_internal_forces(int* first_inverted)
                                     first_inverted, state_.data());
 }
 
+double Body::element_failure(int e, double normal[3]) const
+{
+  normal[0] = normal[1] = normal[2] = 0;
+  double worst = 0;
+  const int per = material_model_info(material_.model).state_per_point;
+  if (per == 0) return 0.0;
+  for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q) {
+    double n[3];
+    const double m = point_failure(material_, &state_[space_.state_offset(e) + q * per], n);
+    if (m > worst) {
+      worst = m;
+      std::copy(n, n + 3, normal);
+    }
+  }
+  return worst;
+}
+
+double Body::dissipated_energy() const
+{
+  const int per = material_model_info(material_.model).state_per_point;
+  if (per == 0) return 0.0;
+  double total = 0;
+  for (int e = 0; e < mesh_.num_elems(); ++e)
+    for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q)
+      total += space_.point_weight(mesh_, e, q) *
+               point_dissipation(material_, &state_[space_.state_offset(e) + q * per]);
+  return total;
+}
+
 void Body::element_energies(std::vector<double>& energy) const
 {
   energy.assign(mesh_.num_elems(), 0.0);
@@ -212,19 +244,11 @@ double Body::momentum(int d) const
 
 /* ---------------------------------------------------------------------- */
 
-int Body::split_node(int node, const std::vector<int>& to_copy)
+int Body::split_node(const SplitPlan& plan)
 {
-  const int copy = num_nodes();
-  for (int d = 0; d < 3; ++d)
-    mesh_.X.push_back(mesh_.X[3 * node + d]);
-  for (int e : to_copy)
-    for (int& c : mesh_.conn[e])
-      if (c == node) c = copy;
-  for (auto& set : mesh_.node_sets) {
-    std::vector<int>& s = set.second;
-    if (std::binary_search(s.begin(), s.end(), node))
-      s.insert(std::upper_bound(s.begin(), s.end(), copy), copy);
-  }
+  const int node = plan.node;
+  const int copy = fracdem::split_node(mesh_, stars_, plan);
+  const std::vector<int>& to_copy = plan.side_b;
   resize_nodes(copy + 1);
   for (int d = 0; d < 3; ++d) {
     x_[3 * copy + d] = x_[3 * node + d];
@@ -262,13 +286,14 @@ int Body::split_node(int node, const std::vector<int>& to_copy)
 void Body::erode(int e)
 {
   mesh_.active[e] = 0;
+  stars_.build(mesh_);
 }
 
 /* ----------------------------------------------------------------------
    restart record (doubles): version, nn, ne, time, external work, contact work,
    version 1: x, v (3 nn each), active (ne)
    version 2: X, x, v, v_prescribed (3 nn each), bc, parent, mass (nn each),
-              conn (4 ne), active (ne)
+              conn (4 ne), active (ne), nstate, material state (nstate)
 ------------------------------------------------------------------------- */
 
 void Body::pack_state(std::vector<double>& buf) const
@@ -288,6 +313,8 @@ void Body::pack_state(std::vector<double>& buf) const
   for (int e = 0; e < ne; ++e)
     buf.insert(buf.end(), mesh_.conn[e].begin(), mesh_.conn[e].end());
   buf.insert(buf.end(), mesh_.active.begin(), mesh_.active.end());
+  buf.push_back(static_cast<double>(state_.size()));
+  buf.insert(buf.end(), state_.begin(), state_.end());
 }
 
 void Body::unpack_state(const double* buf)
@@ -336,6 +363,16 @@ void Body::unpack_state(const double* buf)
   }
   for (int e = 0; e < ne; ++e)
     mesh_.active[e] = p[e] != 0.0;
+  p += ne;
+  if (version == 2) {
+    const int nstate = static_cast<int>(*p++);
+    if (nstate != static_cast<int>(state_.size()))
+      throw std::runtime_error("restart file holds " + std::to_string(nstate) +
+                               " material-state values but this body's material has " +
+                               std::to_string(state_.size()) + "; use the same 'material'");
+    std::copy(p, p + nstate, state_.begin());
+  }
+  stars_.build(mesh_);
   if (version == 1) derive_masses(); // masses of the whole mesh, as that version's runs had
   for (int n = 0; n < nn; ++n)
     inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;

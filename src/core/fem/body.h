@@ -9,6 +9,7 @@
 #include "fem/fe_space.h"
 #include "fem/material.h"
 #include "fem/mesh.h"
+#include "fracture/node_split.h"
 
 namespace fracdem
 {
@@ -53,11 +54,18 @@ public:
   void finish_forces(double strain_energy, const double gravity[3], double dt, bool count_work);
 
   // ---- topology ----
-  // Gives node `node` a copy that the elements `to_copy` (of its star) use from now on. The copy
-  // starts with the node's position, velocity and condition; the lumped masses of both are
-  // re-derived from their elements and the node's force is shared in proportion, so mass,
-  // momentum and force sums are unchanged (to round-off). Returns the copy's index.
-  int split_node(int node, const std::vector<int>& to_copy);
+  // Plans the split of `node` along the plane through its current position with normal n
+  // (fracture/node_split.h); the plan has an empty side where no split is possible.
+  SplitPlan plan_split(int node, const double n[3]) const
+  {
+    return plan_node_split(mesh_, stars_, x_.data(), node, n);
+  }
+  // Gives plan.node a copy that the elements plan.side_b use from now on. The copy starts with
+  // the node's position, velocity and condition; it takes its elements' share of the lumped
+  // mass and the node keeps the rest, and the force is shared in proportion, so mass, momentum
+  // and force sums are unchanged (to round-off). Returns the copy's index.
+  int split_node(const SplitPlan& plan);
+  const NodeStars& stars() const { return stars_; }
   // Removes element e from the body (its nodes keep their masses and go on as point masses).
   void erode(int e);
 
@@ -90,6 +98,11 @@ public:
   {
     space_.element_stress(mesh_, x_.data(), e, sigma, state_.data());
   }
+  // Failure measure of element e (largest of its points: 0 intact .. 1 carries no more
+  // tension) and the crack normal of that point.
+  double element_failure(int e, double normal[3]) const;
+  // Energy dissipated by the material (cracking) in the whole body so far.
+  double dissipated_energy() const;
   // Strain energy per element now (0 for eroded ones), without advancing any history.
   void element_energies(std::vector<double>& energy) const;
 
@@ -115,6 +128,7 @@ private:
   std::vector<double> v_prescribed_;
   std::vector<int> parent_;
   std::vector<double> state_; // per integration point, see FeSpace::state_offset
+  NodeStars stars_;           // active elements around each node
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
   double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0;

@@ -769,6 +769,20 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   sigma[3] = s[3];
 }
 
+double FeSpace::point_weight(const Mesh& mesh, int e, int q) const
+{
+  const double* g = &geo_[offset_[e]];
+  switch (mesh.etype[e]) {
+  case ElemType::Tet4:
+    return g[12];
+  case ElemType::Tri3:
+    return g[6];
+  case ElemType::Quad4:
+    return g[q * kQuadPoint + 8];
+  }
+  return 0.0;
+}
+
 double FeSpace::von_mises(const double s[6])
 {
   const double a = s[0] - s[1], b = s[1] - s[2], c = s[2] - s[0];

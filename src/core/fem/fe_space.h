@@ -71,6 +71,8 @@ public:
   // Material history: doubles in all, and where element e's points start.
   int state_size() const { return state_offset_.back(); }
   int state_offset(int e) const { return state_offset_[e]; }
+  // Integration weight (volume it stands for) of point q of element e.
+  double point_weight(const Mesh& mesh, int e, int q) const;
   bool axisymmetric() const { return axisym_; }
   const Material& material() const { return mat_; }
 

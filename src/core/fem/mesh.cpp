@@ -2,6 +2,9 @@
 #include "fem/mesh.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include <algorithm>
 #include <tuple>
 
 namespace fracdem
@@ -97,6 +100,20 @@ std::vector<Facet> boundary_facets(const Mesh& mesh)
     return std::tie(a.elem, a.local_face) < std::tie(b.elem, b.local_face);
   });
   return out;
+}
+
+double element_diameter(const Mesh& m, int e)
+{
+  const int n = nodes_per_elem(m.etype[e]);
+  double d2 = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      const double* p = &m.X[3 * m.conn[e][a]];
+      const double* q = &m.X[3 * m.conn[e][b]];
+      d2 = std::max(d2, (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                            (p[2] - q[2]) * (p[2] - q[2]));
+    }
+  return std::sqrt(d2);
 }
 
 } // namespace fracdem

@@ -88,4 +88,8 @@ double tet_volume6(const double* X, const std::array<int, 4>& c);
 // area of a triangle / quad in the x-y plane (positive when counter-clockwise).
 double signed_measure(const Mesh& m, int e);
 
+// Largest distance between two nodes of element e in the reference configuration: an upper
+// bound of the element's width across any direction (crack-band checks).
+double element_diameter(const Mesh& m, int e);
+
 } // namespace fracdem

@@ -28,4 +28,19 @@ const MaterialModelInfo& material_model_info(MaterialModel model)
   return material_models().front();
 }
 
+double point_failure(const Material& mat, const double* state, double normal[3])
+{
+  normal[0] = normal[1] = normal[2] = 0;
+  if (mat.model != MaterialModel::Rankine) return 0.0;
+  const double* n = rankine_crack_normal(state);
+  for (int d = 0; d < 3; ++d)
+    normal[d] = n[d];
+  return rankine_cracked(mat.rankine(), state) ? 1.0 : rankine_damage(state);
+}
+
+double point_dissipation(const Material& mat, const double* state)
+{
+  return mat.model == MaterialModel::Rankine ? rankine_dissipated(state) : 0.0;
+}
+
 } // namespace fracdem

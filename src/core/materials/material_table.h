@@ -22,4 +22,10 @@ const std::vector<MaterialModelInfo>& material_models();
 const MaterialModelInfo* find_material_model(const std::string& keyword);
 const MaterialModelInfo& material_model_info(MaterialModel model);
 
+// Failure measure of one integration point (0 intact .. 1 carries no more tension) and, where it
+// has failed at all, its failure direction (crack normal) in `normal` (zeros otherwise).
+double point_failure(const Material& mat, const double* state, double normal[3]);
+// Energy dissipated so far per unit volume at one integration point.
+double point_dissipation(const Material& mat, const double* state);
+
 } // namespace fracdem

@@ -199,10 +199,22 @@ double rankine_stress(const RankineParams& p, StressMode mode, const double eps_
   return 0.5 * voigt_dot(sigma, eps);
 }
 
-double rankine_damage(const double* state) { return state[kDamage]; }
-double rankine_dissipated(const double* state) { return state[kDissipated]; }
-const double* rankine_crack_normal(const double* state) { return state + kNormal; }
-double rankine_band_width(const double* state) { return state[kBand]; }
+double rankine_damage(const double* state)
+{
+  return state[kDamage];
+}
+double rankine_dissipated(const double* state)
+{
+  return state[kDissipated];
+}
+const double* rankine_crack_normal(const double* state)
+{
+  return state + kNormal;
+}
+double rankine_band_width(const double* state)
+{
+  return state[kBand];
+}
 
 bool rankine_cracked(const RankineParams& p, const double* state)
 {
@@ -217,7 +229,10 @@ bool rankine_cracked(const RankineParams& p, const double* state)
   return softening_stress(p, kappa, h) <= 0.01 * p.ft;
 }
 
-double rankine_snapback_length(const RankineParams& p) { return 2 * p.E * p.gf / (p.ft * p.ft); }
+double rankine_snapback_length(const RankineParams& p)
+{
+  return 2 * p.E * p.gf / (p.ft * p.ft);
+}
 
 void rankine_check(const RankineParams& p)
 {

@@ -1,0 +1,106 @@
+// Nodal fracture: failure map, crack points and node splits along element boundaries.
+#include "fracture/nodal_fracture.h"
+
+#include <algorithm>
+
+namespace fracdem
+{
+
+void build_failure_map(const Body& body, FailureMap& map)
+{
+  const Mesh& mesh = body.mesh();
+  const int nn = mesh.num_nodes();
+  map.measure.assign(nn, 0.0);
+  map.direction.assign(3 * nn, 0.0);
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    if (!mesh.active[e]) continue;
+    double n[3];
+    const double m = body.element_failure(e, n);
+    if (m <= 0) continue;
+    // Strictly larger wins: the lowest element index among equals, on every rank alike.
+    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a) {
+      const int v = mesh.conn[e][a];
+      if (m > map.measure[v]) {
+        map.measure[v] = m;
+        std::copy(n, n + 3, &map.direction[3 * v]);
+      }
+    }
+  }
+}
+
+std::vector<int> crack_points(const FailureMap& map)
+{
+  std::vector<int> points;
+  for (int v = 0; v < static_cast<int>(map.measure.size()); ++v)
+    if (map.measure[v] >= 1.0) points.push_back(v);
+  return points;
+}
+
+namespace
+{
+// The most failed element around node v (lowest index among equals), or -1 when none has
+// failed completely. Its crack normal goes to n.
+int driving_element(const Body& body, int v, double n[3])
+{
+  int best = -1;
+  double worst = 0;
+  for (const int* e = body.stars().begin(v); e != body.stars().end(v); ++e) {
+    double ne[3];
+    const double m = body.element_failure(*e, ne);
+    if (m >= 1.0 && m > worst) {
+      worst = m;
+      best = *e;
+      std::copy(ne, ne + 3, n);
+    }
+  }
+  return best;
+}
+
+// A crack band is one element wide: once a physical crack runs along one side of a failed
+// element (one of its nodes lies on a crack), a plane through a node on the element's other
+// side would open a second, parallel crack and cut the band out as a sliver fragment. Nodes
+// on the same crack line (within a third of the element's size of the plane) continue it.
+bool band_already_cracked(const Body& body, const std::vector<char>& on_crack, int e, int v,
+                          const double n[3])
+{
+  const Mesh& mesh = body.mesh();
+  const double* x = body.positions().data();
+  const double tol = element_diameter(mesh, e) / 3.0;
+  for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a) {
+    const int w = mesh.conn[e][a];
+    if (w == v || !on_crack[w]) continue;
+    double dist = 0;
+    for (int d = 0; d < 3; ++d)
+      dist += (x[3 * w + d] - x[3 * v + d]) * n[d];
+    if (dist > tol || dist < -tol) return true;
+  }
+  return false;
+}
+} // namespace
+
+std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
+                                      const std::vector<int>& points)
+{
+  (void)map;
+  // Nodes on a physical crack: split nodes and their copies.
+  std::vector<char> on_crack(body.num_nodes(), 0);
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (body.parents()[w] >= 0) on_crack[w] = on_crack[body.parents()[w]] = 1;
+  std::vector<SplitEvent> events;
+  for (int v : points) {
+    // Re-checked here: a split earlier in this pass may have opened this band already.
+    double n[3] = {0, 0, 0};
+    const int e = driving_element(body, v, n);
+    if (e < 0 || band_already_cracked(body, on_crack, e, v, n)) continue;
+    const SplitPlan plan = body.plan_split(v, n);
+    if (!plan.splittable()) continue;
+    SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};
+    ev.copy = body.split_node(plan);
+    on_crack[v] = 1;
+    on_crack.push_back(1);
+    events.push_back(ev);
+  }
+  return events;
+}
+
+} // namespace fracdem

@@ -1,0 +1,42 @@
+// Nodal fracture (paper section 2.2): failure map, assessment, and the topological update that
+// turns a smeared crack into a physical one by splitting nodes along element boundaries.
+#pragma once
+
+#include <vector>
+
+#include "fem/body.h"
+
+namespace fracdem
+{
+
+// Stage (i): per node, the largest failure measure among the active elements around it (0
+// intact .. 1 carries no more tension) and the crack normal of that element (the failure
+// direction: the maximum failure strain direction of the rotating crack).
+struct FailureMap {
+  std::vector<double> measure;   // per node
+  std::vector<double> direction; // 3 per node, unit (zeros where nothing failed)
+};
+void build_failure_map(const Body& body, FailureMap& map);
+
+// Stage (ii): nodes whose measure reached 1 (crack points), ascending.
+std::vector<int> crack_points(const FailureMap& map);
+
+// One applied split, for the log.
+struct SplitEvent {
+  int node, copy;
+  double normal[3];
+  int elements_moved;
+};
+
+// Stage (iii): at each crack point, in ascending order, a failure plane through the node with
+// the failure direction of its most failed element (still smeared) as normal; the node is split and
+// the crack opens along the element boundaries between the two sides of the plane (no element is
+// cut, so no sliver is made and the stable time step of the elements is unchanged). Points whose
+// star lies on one side of the plane (already split, or a surface node with a tangent plane) are
+// left alone, and so are points whose failed element already borders a crack on its far side (one
+// crack per band, no sliver fragments). Every replica that calls this on the same body and map
+// makes the same splits.
+std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
+                                      const std::vector<int>& points);
+
+} // namespace fracdem
