@@ -108,7 +108,7 @@ FixFemBody::FixFemBody(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
   scalar_flag = 1;
   extscalar = 1;
   vector_flag = 1;
-  size_vector = kVectorSize;
+  size_vector = kVectorSize + 3 * static_cast<int>(reaction_groups_.size());
   extvector = 0;
   global_freq = 1;
   // time_integrate stays 0: this fix integrates FE nodes, never the host's atoms.
@@ -201,17 +201,32 @@ void FixFemBody::parse_arguments(int narg, char** arg)
         error->all(FLERR, "fix fem/body: keyword 'thickness' must be > 0");
       iarg += 2;
     } else if (!strcmp(kw, "fixed")) {
-      need(iarg, 1, kw, "a mesh physical group name");
-      fixed_sets_.push_back(arg[iarg + 1]);
+      need(iarg, 1, kw, "a mesh physical group name [x] [y] [z]");
+      FixedSpec f{arg[iarg + 1], 0, reaction_group(arg[iarg + 1])};
       iarg += 2;
+      for (; iarg < narg && strlen(arg[iarg]) == 1 && strchr("xyz", arg[iarg][0]); ++iarg)
+        f.mask |= 1 << (arg[iarg][0] - 'x');
+      if (f.mask == 0) f.mask = 7; // no component named: all
+      fixed_sets_.push_back(f);
     } else if (!strcmp(kw, "velocity") || !strcmp(kw, "prescribed_velocity")) {
       need(iarg, 4, kw, "GROUP vx vy vz");
       NodeVelocitySpec s;
       s.set = arg[iarg + 1];
       for (int d = 0; d < 3; ++d)
         s.v[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
-      (kw[0] == 'v' ? initial_velocity_ : prescribed_velocity_).push_back(s);
       iarg += 5;
+      if (kw[0] == 'v') {
+        initial_velocity_.push_back(s);
+        continue;
+      }
+      s.group = reaction_group(s.set);
+      if (iarg + 1 < narg && !strcmp(arg[iarg], "ramp")) {
+        s.ramp = force->numeric(FLERR, arg[iarg + 1]);
+        if (s.ramp <= 0)
+          error->all(FLERR, "fix fem/body: keyword 'prescribed_velocity ... ramp T' needs T > 0");
+        iarg += 2;
+      }
+      prescribed_velocity_.push_back(s);
     } else if (!strcmp(kw, "scale")) {
       need(iarg, 1, kw, "a factor");
       fracdem::MeshTransform t{fracdem::MeshTransform::Scale,
@@ -386,6 +401,15 @@ void FixFemBody::parse_fracture(int narg, char** arg, int& iarg)
   }
 }
 
+// Index of the reaction account of a node group (one per group name, in order of appearance).
+int FixFemBody::reaction_group(const std::string& set)
+{
+  auto it = std::find(reaction_groups_.begin(), reaction_groups_.end(), set);
+  if (it != reaction_groups_.end()) return static_cast<int>(it - reaction_groups_.begin());
+  reaction_groups_.push_back(set);
+  return static_cast<int>(reaction_groups_.size()) - 1;
+}
+
 void FixFemBody::check_arguments()
 {
   if (surface_type_ < 1 || surface_type_ > atom->ntypes) {
@@ -460,9 +484,9 @@ void FixFemBody::load_mesh()
   }
   body_.set_rigid_motion(motion_);
   for (const auto& s : fixed_sets_)
-    body_.set_fixed(node_set(s, "fixed"));
+    body_.set_fixed(node_set(s.set, "fixed"), s.mask, s.group);
   for (const auto& s : prescribed_velocity_)
-    body_.set_prescribed_velocity(node_set(s.set, "prescribed_velocity"), s.v);
+    body_.set_prescribed_velocity(node_set(s.set, "prescribed_velocity"), s.v, s.ramp, s.group);
   for (const auto& s : initial_velocity_)
     node_set(s.set, "velocity"); // validate names now
 
@@ -576,6 +600,7 @@ void FixFemBody::read_contact_properties()
 
 void FixFemBody::init()
 {
+  fe_only_.init(this);
   fracdem::ParticleFacetOptions opt;
   opt.model = normal_model_;
   opt.tangential_history = tangential_history_;
@@ -600,7 +625,11 @@ void FixFemBody::init()
       error->one(FLERR, msg.c_str());
     }
     fprintf(energy_fp_, "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
-                        "fracture_energy,split_nodes,fragments\n");
+                        "fracture_energy,split_nodes,fragments");
+    for (const std::string& g : reaction_groups_)
+      fprintf(energy_fp_, ",reaction_%s_x,reaction_%s_y,reaction_%s_z", g.c_str(), g.c_str(),
+              g.c_str());
+    fputc('\n', energy_fp_);
   }
   check_time_step();
 }
@@ -798,6 +827,11 @@ double FixFemBody::compute_vector(int i)
   case kFragments:
     return fragments();
   }
+  if (i >= kVectorSize && i < size_vector) {
+    const auto& r = body_.reactions();
+    const size_t k = static_cast<size_t>(i - kVectorSize);
+    return k < r.size() ? r[k] : 0.0;
+  }
   return 0.0;
 }
 
@@ -870,10 +904,14 @@ void FixFemBody::write_energy_row()
   if (update->ntimestep == last_energy_step_) return; // a new run starts where the last ended
   last_energy_step_ = update->ntimestep;
   const double ke = body_.kinetic_energy(), se = body_.strain_energy();
-  fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d\n",
+  fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d",
           update->ntimestep, body_.time(), ke, se, body_.external_work(), body_.contact_work(),
           ke + se, body_.num_nodes(), body_.mesh().num_active_elems(), body_.dissipated_energy(),
           split_nodes(), fragments());
+  const auto& r = body_.reactions();
+  for (size_t k = 0; k < 3 * reaction_groups_.size(); ++k)
+    fprintf(energy_fp_, ",%.12g", k < r.size() ? r[k] : 0.0);
+  fputc('\n', energy_fp_);
   fflush(energy_fp_);
 }
 

@@ -9,6 +9,8 @@
 
 #include "fix.h"
 
+#include "fe_only_scene.h"
+
 #include "contact/particle_facet.h"
 #include "fem/body.h"
 #include "fracture/nodal_fracture.h"
@@ -24,6 +26,10 @@ public:
 
   int setmask() override;
   void init() override;
+  // Properties::max_type() stops a granular run unless something in it uses type 1: the body
+  // meets particles of every type from 1 on. No max_type(): pair gran would then apply its
+  // particle-material checks (youngsModulus <= 1e9 in SI) to the body's own type.
+  int min_type() override { return 1; }
   void setup(int) override;
   void initial_integrate(int) override;
   void post_force(int) override;
@@ -69,6 +75,13 @@ private:
   struct NodeVelocitySpec {
     std::string set;
     double v[3];
+    double ramp = 0; // prescribed_velocity: linear ramp time
+    int group = -1;  // reaction account
+  };
+  struct FixedSpec {
+    std::string set;
+    int mask; // held components, bit d = component d
+    int group;
   };
 
   // ---- set-up helpers ----
@@ -100,7 +113,9 @@ private:
   bool have_density_ = false, have_youngs_ = false, have_poisson_ = false;
   bool rigid_ = false;
   fracdem::RigidMotion motion_;
-  std::vector<std::string> fixed_sets_;
+  std::vector<FixedSpec> fixed_sets_;
+  std::vector<std::string> reaction_groups_; // fixed / prescribed_velocity groups, in order
+  int reaction_group(const std::string& set);
   std::vector<NodeVelocitySpec> initial_velocity_, prescribed_velocity_;
   std::vector<fracdem::MeshTransform> transforms_;
   fracdem::NormalModel normal_model_ = fracdem::NormalModel::Hertz;
@@ -119,6 +134,7 @@ private:
   // ---- the body (replicated on every rank) and its contact surface ----
   fracdem::Body body_;
   fracdem::ParticleFacetContact contact_;
+  FeOnlyScene fe_only_{lmp};
   double gravity_[3] = {0, 0, 0};
   int ncontacts_ = 0;
   double dt_stable_ = 0;

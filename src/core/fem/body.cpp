@@ -37,6 +37,9 @@ void Body::resize_nodes(int nn)
   f_contact_prev_.resize(3 * nn, 0.0);
   v_prescribed_.resize(3 * nn, 0.0);
   bc_.resize(nn, NodeBc::Free);
+  held_.resize(nn, 0);
+  ramp_.resize(nn, 0.0);
+  bc_group_.resize(nn, -1);
   parent_.resize(nn, -1);
   mass_.resize(nn, 0.0);
   inv_mass_.resize(nn, 0.0);
@@ -58,19 +61,30 @@ void Body::set_element_range(int begin, int end)
 
 /* ---------------------------------------------------------------------- */
 
-void Body::set_fixed(const std::vector<int>& nodes)
+void Body::set_fixed(const std::vector<int>& nodes, int mask, int group)
 {
-  for (int n : nodes)
-    bc_[n] = NodeBc::Fixed;
+  for (int n : nodes) {
+    held_[n] = bc_[n] == NodeBc::Partial ? (held_[n] | mask) : mask;
+    bc_[n] = held_[n] == 7 ? NodeBc::Fixed : NodeBc::Partial;
+    bc_group_[n] = group;
+  }
+  if (group >= 0 && 3 * (group + 1) > static_cast<int>(reactions_.size()))
+    reactions_.resize(3 * (group + 1), 0.0);
 }
 
-void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v[3])
+void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v[3], double ramp,
+                                   int group)
 {
   for (int n : nodes) {
     bc_[n] = NodeBc::Prescribed;
+    held_[n] = 7;
+    ramp_[n] = ramp;
+    bc_group_[n] = group;
     for (int d = 0; d < 3; ++d)
       v_prescribed_[3 * n + d] = v[d];
   }
+  if (group >= 0 && 3 * (group + 1) > static_cast<int>(reactions_.size()))
+    reactions_.resize(3 * (group + 1), 0.0);
 }
 
 void Body::set_velocity(const std::vector<int>& nodes, const double v[3])
@@ -88,7 +102,10 @@ void Body::impose_velocity_conditions()
         v_[3 * n + d] = 0;
     else if (bc_[n] == NodeBc::Prescribed)
       for (int d = 0; d < 3; ++d)
-        v_[3 * n + d] = v_prescribed_[3 * n + d];
+        v_[3 * n + d] = v_prescribed_[3 * n + d] * ramp_factor(n, time_);
+    else if (bc_[n] == NodeBc::Partial)
+      for (int d = 0; d < 3; ++d)
+        if (held_[n] >> d & 1) v_[3 * n + d] = 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -113,6 +130,18 @@ void Body::half_kick_drift(double dt)
       v[2] += s * f[2];
     } else if (bc_[n] == NodeBc::Fixed) {
       continue;
+    } else if (bc_[n] == NodeBc::Partial) {
+      const double s = half * inv_mass_[n];
+      for (int d = 0; d < 3; ++d)
+        if (!(held_[n] >> d & 1)) {
+          v[d] += s * f_[3 * n + d];
+          x[d] += dt * v[d];
+        }
+      continue;
+    } else if (ramp_[n] > 0) { // prescribed, ramped: the velocity at mid-step
+      const double r = ramp_factor(n, time_ - 0.5 * dt);
+      for (int d = 0; d < 3; ++d)
+        v[d] = v_prescribed_[3 * n + d] * r;
     }
     x[0] += dt * v[0];
     x[1] += dt * v[1];
@@ -125,6 +154,11 @@ void Body::half_kick(double dt)
   const double half = 0.5 * dt;
   const int nn = num_nodes();
   for (int n = 0; n < nn; ++n) {
+    if (bc_[n] == NodeBc::Partial) {
+      for (int d = 0; d < 3; ++d)
+        if (!(held_[n] >> d & 1)) v_[3 * n + d] += half * inv_mass_[n] * f_[3 * n + d];
+      continue;
+    }
     if (bc_[n] != NodeBc::Free) continue;
     const double s = half * inv_mass_[n];
     const double* f = &f_[3 * n];
@@ -215,10 +249,29 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
   }
   // f_contact_prev_ keeps this step's contact forces; f_contact_ becomes scratch.
   std::swap(f_contact_prev_, f_contact_);
+  if (!reactions_.empty()) add_reactions();
   for (int n = 0; n < nn; ++n)
-    if (bc_[n] != NodeBc::Free)
+    if (bc_[n] == NodeBc::Partial) {
+      for (int d = 0; d < 3; ++d)
+        if (held_[n] >> d & 1) f_[3 * n + d] = 0;
+    } else if (bc_[n] != NodeBc::Free) {
       for (int d = 0; d < 3; ++d)
         f_[3 * n + d] = 0;
+    }
+}
+
+// The constraint force on a held component is what keeps its prescribed motion: m a - f.
+void Body::add_reactions()
+{
+  std::fill(reactions_.begin(), reactions_.end(), 0.0);
+  for (int n = 0; n < num_nodes(); ++n) {
+    const int g = bc_group_[n];
+    if (g < 0 || bc_[n] == NodeBc::Free) continue;
+    const double rate = bc_[n] == NodeBc::Prescribed ? ramp_rate(n, time_) : 0.0;
+    for (int d = 0; d < 3; ++d)
+      if (held_[n] >> d & 1)
+        reactions_[3 * g + d] += mass_[n] * v_prescribed_[3 * n + d] * rate - f_[3 * n + d];
+  }
 }
 
 double Body::kinetic_energy() const
@@ -257,6 +310,9 @@ int Body::split_node(const SplitPlan& plan)
     f_contact_prev_[3 * copy + d] = 0;
   }
   bc_[copy] = bc_[node];
+  held_[copy] = held_[node];
+  ramp_[copy] = ramp_[node];
+  bc_group_[copy] = bc_group_[node];
   parent_[copy] = node;
   // The copy takes its elements' share of the lumped mass, the node keeps the rest (including
   // that of eroded elements), so the sum is unchanged; the force is shared like the mass, so
@@ -292,7 +348,7 @@ void Body::erode(int e)
 /* ----------------------------------------------------------------------
    restart record (doubles): version, nn, ne, time, external work, contact work,
    version 1: x, v (3 nn each), active (ne)
-   version 2: X, x, v, v_prescribed (3 nn each), bc, parent, mass (nn each),
+   version 2: X, x, v, v_prescribed (3 nn each), bc + 8 held, ramp, group, parent, mass (nn each),
               conn (4 ne), active (ne), nstate, material state (nstate)
 ------------------------------------------------------------------------- */
 
@@ -300,14 +356,16 @@ void Body::pack_state(std::vector<double>& buf) const
 {
   const int nn = num_nodes(), ne = mesh_.num_elems();
   buf.clear();
-  buf.reserve(6 + 15 * nn + 5 * ne);
+  buf.reserve(6 + 17 * nn + 6 * ne + state_.size());
   buf.insert(buf.end(), {2.0, double(nn), double(ne), time_, external_work_, contact_work_});
   buf.insert(buf.end(), mesh_.X.begin(), mesh_.X.end());
   buf.insert(buf.end(), x_.begin(), x_.end());
   buf.insert(buf.end(), v_.begin(), v_.end());
   buf.insert(buf.end(), v_prescribed_.begin(), v_prescribed_.end());
   for (int n = 0; n < nn; ++n)
-    buf.push_back(static_cast<double>(bc_[n]));
+    buf.push_back(static_cast<double>(bc_[n]) + 8.0 * held_[n]);
+  buf.insert(buf.end(), ramp_.begin(), ramp_.end());
+  buf.insert(buf.end(), bc_group_.begin(), bc_group_.end());
   buf.insert(buf.end(), parent_.begin(), parent_.end());
   buf.insert(buf.end(), mass_.begin(), mass_.end());
   for (int e = 0; e < ne; ++e)
@@ -343,8 +401,14 @@ void Body::unpack_state(const double* buf)
   if (version == 2) {
     std::copy(p, p + 3 * nn, v_prescribed_.begin());
     p += 3 * nn;
+    for (int n = 0; n < nn; ++n) {
+      bc_[n] = static_cast<NodeBc>(static_cast<int>(p[n]) % 8);
+      held_[n] = static_cast<std::uint8_t>(static_cast<int>(p[n]) / 8);
+    }
+    std::copy(p + nn, p + 2 * nn, ramp_.begin());
     for (int n = 0; n < nn; ++n)
-      bc_[n] = static_cast<NodeBc>(static_cast<int>(p[n]));
+      bc_group_[n] = static_cast<int>(p[2 * nn + n]);
+    p += 2 * nn;
     for (int n = 0; n < nn; ++n)
       parent_[n] = static_cast<int>(p[nn + n]);
     std::copy(p + 2 * nn, p + 3 * nn, mass_.begin());

@@ -14,8 +14,9 @@
 namespace fracdem
 {
 
-// Boundary condition of a node: free, held in place, or moving at a prescribed velocity.
-enum class NodeBc : std::uint8_t { Free = 0, Fixed = 1, Prescribed = 2 };
+// Boundary condition of a node: free, held in place, moving at a prescribed velocity, or held
+// in some components only (Partial: see the node's held-component mask).
+enum class NodeBc : std::uint8_t { Free = 0, Fixed = 1, Prescribed = 2, Partial = 3 };
 
 // A deformable (or rigid, prescribed-motion) body, replicated on every rank of a run. The host
 // adapter moves data between it and the host; the body does the physics:
@@ -31,8 +32,12 @@ public:
   void set_element_range(int begin, int end);
 
   // ---- boundary conditions and initial state ----
-  void set_fixed(const std::vector<int>& nodes);
-  void set_prescribed_velocity(const std::vector<int>& nodes, const double v[3]);
+  // Holds the components in `mask` (bit d: component d; 7 = all) of `nodes`. group: index of
+  // the reaction account these nodes report to (-1: none).
+  void set_fixed(const std::vector<int>& nodes, int mask = 7, int group = -1);
+  // Moves `nodes` at velocity v, ramped linearly from 0 over `ramp` (0: at once).
+  void set_prescribed_velocity(const std::vector<int>& nodes, const double v[3], double ramp = 0,
+                               int group = -1);
   void set_velocity(const std::vector<int>& nodes, const double v[3]);
   // Velocities of fixed / prescribed nodes set to their conditions (after initial velocities).
   void impose_velocity_conditions();
@@ -81,6 +86,9 @@ public:
   const std::vector<double>& masses() const { return mass_; }
   const std::vector<NodeBc>& conditions() const { return bc_; }
   const std::vector<int>& parents() const { return parent_; } // -1: an original mesh node
+  // Force (3 per reaction group) that the constraints applied to the body in the last force
+  // evaluation: m a - f summed over the group's held components.
+  const std::vector<double>& reactions() const { return reactions_; }
   double* forces_data() { return f_.data(); }
   double* contact_forces() { return f_contact_.data(); }
   double time() const { return time_; }
@@ -115,6 +123,16 @@ public:
 
 private:
   void resize_nodes(int nn);
+  // Velocity factor of a prescribed node at time t (its ramp), and its rate.
+  double ramp_factor(int n, double t) const
+  {
+    return ramp_[n] > 0 && t < ramp_[n] ? (t > 0 ? t / ramp_[n] : 0.0) : 1.0;
+  }
+  double ramp_rate(int n, double t) const
+  {
+    return ramp_[n] > 0 && t < ramp_[n] ? 1.0 / ramp_[n] : 0.0;
+  }
+  void add_reactions();
   void derive_masses();
 
   Mesh mesh_;
@@ -126,6 +144,10 @@ private:
   std::vector<double> f_contact_, f_contact_prev_;
   std::vector<NodeBc> bc_;
   std::vector<double> v_prescribed_;
+  std::vector<std::uint8_t> held_; // held components (bit d), Partial nodes
+  std::vector<double> ramp_;       // prescribed-velocity ramp time per node (0: none)
+  std::vector<int> bc_group_;      // reaction group per node (-1: none)
+  std::vector<double> reactions_;  // 3 per group
   std::vector<int> parent_;
   std::vector<double> state_; // per integration point, see FeSpace::state_offset
   NodeStars stars_;           // active elements around each node
