@@ -90,6 +90,7 @@ enum VectorIndex {
   kDissipated,
   kSplitNodes,
   kFragments,
+  kBoundaryWork,
   kVectorSize
 };
 
@@ -625,7 +626,7 @@ void FixFemBody::init()
       error->one(FLERR, msg.c_str());
     }
     fprintf(energy_fp_, "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
-                        "fracture_energy,split_nodes,fragments");
+                        "fracture_energy,split_nodes,fragments,boundary_work");
     for (const std::string& g : reaction_groups_)
       fprintf(energy_fp_, ",reaction_%s_x,reaction_%s_y,reaction_%s_z", g.c_str(), g.c_str(),
               g.c_str());
@@ -826,6 +827,8 @@ double FixFemBody::compute_vector(int i)
     return split_nodes();
   case kFragments:
     return fragments();
+  case kBoundaryWork:
+    return body_.boundary_work();
   }
   if (i >= kVectorSize && i < size_vector) {
     const auto& r = body_.reactions();
@@ -904,10 +907,10 @@ void FixFemBody::write_energy_row()
   if (update->ntimestep == last_energy_step_) return; // a new run starts where the last ended
   last_energy_step_ = update->ntimestep;
   const double ke = body_.kinetic_energy(), se = body_.strain_energy();
-  fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d",
+  fprintf(energy_fp_, BIGINT_FORMAT ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d,%.12g",
           update->ntimestep, body_.time(), ke, se, body_.external_work(), body_.contact_work(),
           ke + se, body_.num_nodes(), body_.mesh().num_active_elems(), body_.dissipated_energy(),
-          split_nodes(), fragments());
+          split_nodes(), fragments(), body_.boundary_work());
   const auto& r = body_.reactions();
   for (size_t k = 0; k < 3 * reaction_groups_.size(); ++k)
     fprintf(energy_fp_, ",%.12g", k < r.size() ? r[k] : 0.0);

@@ -12,12 +12,41 @@
 #include "update.h"
 
 #include "fix_fem_body.h"
+#include "fracture/node_split.h"
+#include "materials/material_table.h"
 #include "io/vtk_writer.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
 // fix ID group fem/vtk N PREFIX body BODY_FIX_ID
+namespace
+{
+// Per element: damage (0 intact .. 1 no tension left), crack normal, fragment id; per node:
+// 1 where a crack runs through the node (split nodes and their copies).
+void fracture_fields(const fracdem::Body& body, std::vector<double>& damage,
+                     std::vector<double>& normal, std::vector<double>& fragment,
+                     std::vector<double>& split, std::vector<fracdem::VtkField>& fields)
+{
+  const fracdem::Mesh& mesh = body.mesh();
+  const int ne = mesh.num_elems(), nn = mesh.num_nodes();
+  damage.assign(ne, 0.0);
+  normal.assign(3 * ne, 0.0);
+  for (int e = 0; e < ne; ++e)
+    damage[e] = body.element_failure(e, &normal[3 * e]);
+  std::vector<int> comp;
+  fracdem::element_components(mesh, comp);
+  fragment.assign(comp.begin(), comp.end());
+  split.assign(nn, 0.0);
+  for (int n = 0; n < nn; ++n)
+    if (body.parents()[n] >= 0) split[n] = split[body.parents()[n]] = 1.0;
+  fields.push_back({"damage", 1, damage.data(), true});
+  fields.push_back({"crack_normal", 3, normal.data(), true});
+  fields.push_back({"fragment", 1, fragment.data(), true});
+  fields.push_back({"split", 1, split.data(), false});
+}
+} // namespace
+
 FixFemVtk::FixFemVtk(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
 {
   if (narg != 7 || strcmp(arg[5], "body") != 0)
@@ -91,6 +120,10 @@ void FixFemVtk::write_frame()
       {"von_mises", 1, mises.data(), true},
       {"strain_energy_density", 1, energy_density.data(), true},
   };
+  // Fracture fields only for materials that fail (elastic output stays as it was).
+  std::vector<double> damage, normal, fragment, split;
+  if (fracdem::material_model_info(body.material().model).fractures)
+    fracture_fields(body, damage, normal, fragment, split, fields);
   char name[64];
   snprintf(name, sizeof(name), "_%010lld.vtu", static_cast<long long>(update->ntimestep));
   const std::string path = prefix_ + name;

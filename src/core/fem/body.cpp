@@ -249,7 +249,7 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
   }
   // f_contact_prev_ keeps this step's contact forces; f_contact_ becomes scratch.
   std::swap(f_contact_prev_, f_contact_);
-  if (!reactions_.empty()) add_reactions();
+  if (!reactions_.empty()) add_reactions(dt, count_work);
   for (int n = 0; n < nn; ++n)
     if (bc_[n] == NodeBc::Partial) {
       for (int d = 0; d < 3; ++d)
@@ -261,17 +261,23 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
 }
 
 // The constraint force on a held component is what keeps its prescribed motion: m a - f.
-void Body::add_reactions()
+// Their work: the reaction times the node's (mid-step) velocity.
+void Body::add_reactions(double dt, bool count_work)
 {
   std::fill(reactions_.begin(), reactions_.end(), 0.0);
+  double dw = 0;
   for (int n = 0; n < num_nodes(); ++n) {
     const int g = bc_group_[n];
     if (g < 0 || bc_[n] == NodeBc::Free) continue;
     const double rate = bc_[n] == NodeBc::Prescribed ? ramp_rate(n, time_) : 0.0;
     for (int d = 0; d < 3; ++d)
-      if (held_[n] >> d & 1)
-        reactions_[3 * g + d] += mass_[n] * v_prescribed_[3 * n + d] * rate - f_[3 * n + d];
+      if (held_[n] >> d & 1) {
+        const double r = mass_[n] * v_prescribed_[3 * n + d] * rate - f_[3 * n + d];
+        reactions_[3 * g + d] += r;
+        dw += r * v_[3 * n + d];
+      }
   }
+  if (count_work) boundary_work_ += dt * dw;
 }
 
 double Body::kinetic_energy() const
@@ -349,7 +355,7 @@ void Body::erode(int e)
    restart record (doubles): version, nn, ne, time, external work, contact work,
    version 1: x, v (3 nn each), active (ne)
    version 2: X, x, v, v_prescribed (3 nn each), bc + 8 held, ramp, group, parent, mass (nn each),
-              conn (4 ne), active (ne), nstate, material state (nstate)
+              conn (4 ne), active (ne), nstate, material state (nstate), boundary work
 ------------------------------------------------------------------------- */
 
 void Body::pack_state(std::vector<double>& buf) const
@@ -373,6 +379,7 @@ void Body::pack_state(std::vector<double>& buf) const
   buf.insert(buf.end(), mesh_.active.begin(), mesh_.active.end());
   buf.push_back(static_cast<double>(state_.size()));
   buf.insert(buf.end(), state_.begin(), state_.end());
+  buf.push_back(boundary_work_);
 }
 
 void Body::unpack_state(const double* buf)
@@ -435,6 +442,7 @@ void Body::unpack_state(const double* buf)
                                " material-state values but this body's material has " +
                                std::to_string(state_.size()) + "; use the same 'material'");
     std::copy(p, p + nstate, state_.begin());
+    boundary_work_ = p[nstate];
   }
   stars_.build(mesh_);
   if (version == 1) derive_masses(); // masses of the whole mesh, as that version's runs had

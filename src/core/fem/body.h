@@ -95,6 +95,8 @@ public:
   double strain_energy() const { return strain_energy_; }
   double external_work() const { return external_work_; }
   double contact_work() const { return contact_work_; }
+  // Work done on the body by its prescribed-velocity constraints (fixed nodes do none).
+  double boundary_work() const { return boundary_work_; }
   const double* contact_force_total() const { return contact_force_total_; }
   double kinetic_energy() const;
   double momentum(int d) const;
@@ -132,7 +134,7 @@ private:
   {
     return ramp_[n] > 0 && t < ramp_[n] ? 1.0 / ramp_[n] : 0.0;
   }
-  void add_reactions();
+  void add_reactions(double dt, bool count_work);
   void derive_masses();
 
   Mesh mesh_;
@@ -153,7 +155,7 @@ private:
   NodeStars stars_;           // active elements around each node
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
-  double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0;
+  double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0, boundary_work_ = 0;
   double contact_force_total_[3] = {0, 0, 0};
 };
 
