@@ -346,7 +346,8 @@ void FixFemBody::parse_material(int narg, char** arg, int& iarg)
 {
   std::string models;
   for (const auto& m : fracdem::material_models())
-    models += std::string(models.empty() ? "" : " | ") + m.keyword + " " + m.syntax;
+    models +=
+        std::string(models.empty() ? "" : " | ") + m.keyword + (*m.syntax ? " " : "") + m.syntax;
   const fracdem::MaterialModelInfo* info =
       iarg + 1 < narg ? fracdem::find_material_model(arg[iarg + 1]) : nullptr;
   if (!info) {
@@ -741,7 +742,15 @@ void FixFemBody::compute_forces()
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
   // particles; one reduction makes every replica identical.
   int first_inverted = -1;
-  const double local_energy = body_.add_internal_forces(&first_inverted);
+  double local_energy = body_.add_internal_forces(&first_inverted);
+  // A breaking body erodes an element that inverts (it would only produce garbage) and takes
+  // the step's internal forces again; its element work is replicated, so every rank does so.
+  while (first_inverted >= 0 && fracture_every_ > 0 && !split_element_work_) {
+    erode_inverted(first_inverted);
+    body_.begin_forces();
+    first_inverted = -1;
+    local_energy = body_.add_internal_forces(&first_inverted);
+  }
   const fracdem::ParticleFacetResult res =
       contact_.evaluate(particle_arrays(), body_.mesh().X.data(), body_.positions().data(),
                         body_.velocities().data(), update->dt, body_.contact_forces());
@@ -836,6 +845,22 @@ double FixFemBody::compute_vector(int i)
     return k < r.size() ? r[k] : 0.0;
   }
   return 0.0;
+}
+
+void FixFemBody::erode_inverted(int e)
+{
+  body_.erode(e);
+  contact_.rebuild_surface(body_.mesh());
+  ++eroded_;
+  if (comm->me == 0) {
+    char line[256];
+    snprintf(line, sizeof(line),
+             "fix fem/body %s: step " BIGINT_FORMAT
+             ": element %d inverted (det F <= 0) and was eroded; its nodes keep their mass\n",
+             id, update->ntimestep, e);
+    if (logfile) fputs(line, logfile);
+    if (screen) fputs(line, screen);
+  }
 }
 
 int FixFemBody::split_nodes() const

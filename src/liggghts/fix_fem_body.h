@@ -104,6 +104,8 @@ private:
   void fracture();
   void log_splits(const std::vector<fracdem::SplitEvent>& events);
   int split_nodes() const;
+  void erode_inverted(int e);
+  int eroded_ = 0;
   int fragments() const;
 
   // ---- arguments ----
