@@ -288,6 +288,15 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       energy_every_ = force->inumeric(FLERR, arg[iarg + 2]);
       if (energy_every_ <= 0) error->all(FLERR, "fix fem/body: keyword 'energy_file' needs N > 0");
       iarg += 3;
+    } else if (!strcmp(kw, "contact_bodies")) {
+      contact_bodies_ = either(iarg, kw, "yes", "no") ? 1 : 0;
+      iarg += 2;
+    } else if (!strcmp(kw, "contact_penalty")) {
+      need(iarg, 1, kw, "a factor");
+      contact_penalty_ = force->numeric(FLERR, arg[iarg + 1]);
+      if (contact_penalty_ <= 0)
+        error->all(FLERR, "fix fem/body: keyword 'contact_penalty' must be > 0");
+      iarg += 2;
     } else if (!strcmp(kw, "history_slots")) {
       need(iarg, 1, kw, "a count");
       nslots_ = force->inumeric(FLERR, arg[iarg + 1]);
@@ -455,6 +464,9 @@ void FixFemBody::check_arguments()
     error->all(FLERR, msg.c_str());
   }
   if (compliance_combined_ < 0) compliance_combined_ = rigid_ ? 1 : 0;
+  if (contact_bodies_ < 0) contact_bodies_ = fracture_every_ > 0 ? 1 : 0;
+  if (contact_bodies_ && rigid_)
+    error->all(FLERR, "fix fem/body: keyword 'contact_bodies yes' needs a deformable body");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -501,7 +513,7 @@ void FixFemBody::load_mesh()
     body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
                             static_cast<int>((ne * (comm->me + 1)) / comm->nprocs));
   }
-  contact_.rebuild_surface(body_.mesh());
+  rebuild_surfaces();
   check_crack_band();
   log_body();
 }
@@ -612,6 +624,19 @@ void FixFemBody::init()
   opt.buffer = buffer_;
   contact_.configure(opt);
   read_contact_properties();
+  if (contact_bodies_) {
+    fracdem::SurfaceContactOptions so;
+    so.youngs = material_.E;
+    so.penalty_scale = contact_penalty_;
+    so.thickness = domain->dimension == 2 ? material_.thickness : 1.0;
+    so.axisymmetric = body_.space().axisymmetric();
+    auto* mu = static_cast<FixPropertyGlobal*>(
+        modify->find_fix_property("coefficientFriction", "property/global", "peratomtypepair",
+                                  atom->ntypes, atom->ntypes, style));
+    so.friction = mu->compute_array(surface_type_ - 1, surface_type_ - 1);
+    surface_contact_.configure(so);
+    surface_contact_.rebuild(body_.mesh(), contact_.facets());
+  }
 
   gravity_[0] = gravity_[1] = gravity_[2] = 0;
   if (apply_gravity_ && !rigid_) {
@@ -751,6 +776,12 @@ void FixFemBody::compute_forces()
     first_inverted = -1;
     local_energy = body_.add_internal_forces(&first_inverted);
   }
+  // Contact between the body's own pieces (crack faces, fragments): internal forces, taken
+  // once (by rank 0 where the element work is shared and summed).
+  if (contact_bodies_ && (!split_element_work_ || comm->me == 0))
+    surface_contacts_ =
+        surface_contact_.evaluate(body_.positions().data(), body_.velocities().data(),
+                                  body_.masses().data(), update->dt, body_.forces_data());
   const fracdem::ParticleFacetResult res =
       contact_.evaluate(particle_arrays(), body_.mesh().X.data(), body_.positions().data(),
                         body_.velocities().data(), update->dt, body_.contact_forces());
@@ -847,10 +878,17 @@ double FixFemBody::compute_vector(int i)
   return 0.0;
 }
 
+// After a topology change: particle contact and the contact between the body's own pieces.
+void FixFemBody::rebuild_surfaces()
+{
+  contact_.rebuild_surface(body_.mesh());
+  if (contact_bodies_) surface_contact_.rebuild(body_.mesh(), contact_.facets());
+}
+
 void FixFemBody::erode_inverted(int e)
 {
   body_.erode(e);
-  contact_.rebuild_surface(body_.mesh());
+  rebuild_surfaces();
   ++eroded_;
   if (comm->me == 0) {
     char line[256];
@@ -894,7 +932,7 @@ void FixFemBody::fracture()
   MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT, MPI_MAX, world);
   if (counts[0] != -counts[1])
     error->all(FLERR, "fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
-  contact_.rebuild_surface(body_.mesh());
+  rebuild_surfaces();
   log_splits(events);
   const double dt_before = dt_stable_;
   dt_stable_ = body_.stable_time_step();
@@ -969,7 +1007,7 @@ void FixFemBody::restart(char* raw)
                       "'); use the same mesh file and transforms as the run that wrote it";
     error->all(FLERR, msg.c_str());
   }
-  contact_.rebuild_surface(body_.mesh());
+  rebuild_surfaces();
   restarted_state_ = true;
 }
 

@@ -12,6 +12,7 @@
 #include "fe_only_scene.h"
 
 #include "contact/particle_facet.h"
+#include "contact/surface_contact.h"
 #include "fem/body.h"
 #include "fracture/nodal_fracture.h"
 
@@ -137,6 +138,11 @@ private:
   fracdem::Body body_;
   fracdem::ParticleFacetContact contact_;
   FeOnlyScene fe_only_{lmp};
+  fracdem::SurfaceContact surface_contact_;
+  int contact_bodies_ = -1; // -1: default (yes for fracturing bodies)
+  double contact_penalty_ = 1.0;
+  int surface_contacts_ = 0;
+  void rebuild_surfaces();
   double gravity_[3] = {0, 0, 0};
   int ncontacts_ = 0;
   double dt_stable_ = 0;
