@@ -624,19 +624,7 @@ void FixFemBody::init()
   opt.buffer = buffer_;
   contact_.configure(opt);
   read_contact_properties();
-  if (contact_bodies_) {
-    fracdem::SurfaceContactOptions so;
-    so.youngs = material_.E;
-    so.penalty_scale = contact_penalty_;
-    so.thickness = domain->dimension == 2 ? material_.thickness : 1.0;
-    so.axisymmetric = body_.space().axisymmetric();
-    auto* mu = static_cast<FixPropertyGlobal*>(
-        modify->find_fix_property("coefficientFriction", "property/global", "peratomtypepair",
-                                  atom->ntypes, atom->ntypes, style));
-    so.friction = mu->compute_array(surface_type_ - 1, surface_type_ - 1);
-    surface_contact_.configure(so);
-    surface_contact_.rebuild(body_.mesh(), contact_.facets());
-  }
+  if (contact_bodies_) find_contact_partners();
 
   gravity_[0] = gravity_[1] = gravity_[2] = 0;
   if (apply_gravity_ && !rigid_) {
@@ -772,16 +760,13 @@ void FixFemBody::compute_forces()
   // the step's internal forces again; its element work is replicated, so every rank does so.
   while (first_inverted >= 0 && fracture_every_ > 0 && !split_element_work_) {
     erode_inverted(first_inverted);
-    body_.begin_forces();
+    body_.clear_internal_forces();
     first_inverted = -1;
     local_energy = body_.add_internal_forces(&first_inverted);
   }
-  // Contact between the body's own pieces (crack faces, fragments): internal forces, taken
-  // once (by rank 0 where the element work is shared and summed).
-  if (contact_bodies_ && (!split_element_work_ || comm->me == 0))
-    surface_contacts_ =
-        surface_contact_.evaluate(body_.positions().data(), body_.velocities().data(),
-                                  body_.masses().data(), update->dt, body_.forces_data());
+  // Contact between the body's pieces and with other bodies: taken once, on rank 0, into the
+  // contact forces that the ranks sum.
+  if (contact_bodies_ && comm->me == 0) surface_contacts_ = body_contacts();
   const fracdem::ParticleFacetResult res =
       contact_.evaluate(particle_arrays(), body_.mesh().X.data(), body_.positions().data(),
                         body_.velocities().data(), update->dt, body_.contact_forces());
@@ -882,7 +867,81 @@ double FixFemBody::compute_vector(int i)
 void FixFemBody::rebuild_surfaces()
 {
   contact_.rebuild_surface(body_.mesh());
-  if (contact_bodies_) surface_contact_.rebuild(body_.mesh(), contact_.facets());
+  if (!contact_bodies_) return;
+  surface_.build(body_.mesh(), contact_.facets());
+  self_contact_.invalidate();
+  for (Partner& p : partners_) {
+    p.mine_on_theirs.invalidate();
+    p.theirs_on_mine.invalidate();
+  }
+  for (FixFemBody* other : contact_partner_of_)
+    other->partner_changed(this);
+}
+
+// Penalty and friction of the contact between the surfaces of types ti and tj (bodies of
+// moduli Ei, Ej): the softer body's modulus, coefficientFriction of the type pair.
+fracdem::SurfaceContactOptions FixFemBody::surface_options(int other_type, double other_E) const
+{
+  fracdem::SurfaceContactOptions so;
+  so.youngs = std::min(material_.E, other_E);
+  so.penalty_scale = contact_penalty_;
+  so.thickness = domain->dimension == 2 ? material_.thickness : 1.0;
+  so.axisymmetric = body_.space().axisymmetric();
+  auto* mu = static_cast<FixPropertyGlobal*>(
+      modify->find_fix_property("coefficientFriction", "property/global", "peratomtypepair",
+                                atom->ntypes, atom->ntypes, style));
+  so.friction = mu->compute_array(surface_type_ - 1, other_type - 1);
+  return so;
+}
+
+// This body handles its own pieces and every later fix fem/body with contact_bodies yes.
+void FixFemBody::find_contact_partners()
+{
+  self_contact_.configure(surface_options(surface_type_, material_.E));
+  partners_.clear();
+  contact_partner_of_.clear();
+  bool after = false;
+  for (int i = 0; i < modify->nfix; ++i) {
+    auto* other = dynamic_cast<FixFemBody*>(modify->fix[i]);
+    if (other == this) {
+      after = true;
+    } else if (other && other->contact_bodies_ > 0) {
+      if (after) {
+        partners_.emplace_back();
+        partners_.back().other = other;
+        const auto so = surface_options(other->surface_type_, other->material_.E);
+        partners_.back().mine_on_theirs.configure(so);
+        partners_.back().theirs_on_mine.configure(so);
+      } else {
+        contact_partner_of_.push_back(other);
+      }
+    }
+  }
+  rebuild_surfaces();
+}
+
+void FixFemBody::partner_changed(FixFemBody* other)
+{
+  for (Partner& p : partners_)
+    if (p.other == other) {
+      p.mine_on_theirs.invalidate();
+      p.theirs_on_mine.invalidate();
+    }
+}
+
+int FixFemBody::body_contacts()
+{
+  fracdem::ContactBodyState me{body_.positions().data(), body_.velocities().data(),
+                               body_.masses().data(), body_.contact_forces()};
+  int n = self_contact_.evaluate(surface_, me, surface_, me, true, update->dt);
+  for (Partner& p : partners_) {
+    fracdem::Body& ob = p.other->body_;
+    fracdem::ContactBodyState them{ob.positions().data(), ob.velocities().data(),
+                                   ob.masses().data(), ob.pending_contact_forces()};
+    n += p.mine_on_theirs.evaluate(surface_, me, p.other->surface_, them, false, update->dt);
+    n += p.theirs_on_mine.evaluate(p.other->surface_, them, surface_, me, false, update->dt);
+  }
+  return n;
 }
 
 void FixFemBody::erode_inverted(int e)

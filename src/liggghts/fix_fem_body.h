@@ -138,7 +138,19 @@ private:
   fracdem::Body body_;
   fracdem::ParticleFacetContact contact_;
   FeOnlyScene fe_only_{lmp};
-  fracdem::SurfaceContact surface_contact_;
+  // Contact of the body's surface with its own pieces and with later bodies (partners).
+  struct Partner {
+    FixFemBody* other = nullptr;
+    fracdem::SurfaceContact mine_on_theirs, theirs_on_mine;
+  };
+  fracdem::ContactSurface surface_;
+  fracdem::SurfaceContact self_contact_;
+  std::vector<Partner> partners_;
+  std::vector<FixFemBody*> contact_partner_of_; // earlier bodies that handle contact with this one
+  fracdem::SurfaceContactOptions surface_options(int other_type, double other_E) const;
+  void find_contact_partners();
+  void partner_changed(FixFemBody* other);
+  int body_contacts();
   int contact_bodies_ = -1; // -1: default (yes for fracturing bodies)
   double contact_penalty_ = 1.0;
   int surface_contacts_ = 0;

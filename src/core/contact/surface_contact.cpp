@@ -1,4 +1,4 @@
-// Node-to-facet penalty contact between the pieces of a body's surface.
+// Node-to-facet penalty contact between body surfaces (pieces of one body, or two bodies).
 #include "contact/surface_contact.h"
 
 #include <algorithm>
@@ -23,46 +23,39 @@ double facet_size(const double* a, const double* b, const double* c)
 }
 } // namespace
 
-void SurfaceContact::rebuild(const Mesh& mesh, const std::vector<Facet>& facets)
+void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
 {
-  mesh_ = &mesh;
-  facets_ = facets;
-  nodes_.clear();
-  double hmax = 0;
-  for (const Facet& fc : facets_) {
+  facets = boundary;
+  nodes.clear();
+  hmax = 0;
+  const double* X = mesh.X.data();
+  for (const Facet& fc : facets) {
     for (int j = 0; j < fc.nn; ++j)
-      nodes_.push_back(fc.n[j]);
-    const double* X = mesh.X.data();
+      nodes.push_back(fc.n[j]);
     hmax = std::max(
         hmax, facet_size(&X[3 * fc.n[0]], &X[3 * fc.n[1]], fc.nn == 3 ? &X[3 * fc.n[2]] : nullptr));
   }
-  std::sort(nodes_.begin(), nodes_.end());
-  nodes_.erase(std::unique(nodes_.begin(), nodes_.end()), nodes_.end());
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   const int nn = mesh.num_nodes();
-  incident_offset_.assign(nn + 1, 0);
-  for (const Facet& fc : facets_)
+  incident_offset.assign(nn + 1, 0);
+  for (const Facet& fc : facets)
     for (int j = 0; j < fc.nn; ++j)
-      ++incident_offset_[fc.n[j] + 1];
+      ++incident_offset[fc.n[j] + 1];
   for (int i = 0; i < nn; ++i)
-    incident_offset_[i + 1] += incident_offset_[i];
-  incident_.assign(incident_offset_[nn], 0);
-  std::vector<int> fill(incident_offset_.begin(), incident_offset_.end() - 1);
-  for (int k = 0; k < static_cast<int>(facets_.size()); ++k)
-    for (int j = 0; j < facets_[k].nn; ++j)
-      incident_[fill[facets_[k].n[j]]++] = k;
-  // The search reach covers the deepest accepted contact (half the largest facet).
-  buffer_ = facets_.empty() ? 0.0 : 0.5 * hmax;
-  search_ = BufferedSearch(buffer_);
-  stale_ = true;
+    incident_offset[i + 1] += incident_offset[i];
+  incident.assign(incident_offset[nn], 0);
+  std::vector<int> fill(incident_offset.begin(), incident_offset.end() - 1);
+  for (int k = 0; k < static_cast<int>(facets.size()); ++k)
+    for (int j = 0; j < facets[k].nn; ++j)
+      incident[fill[facets[k].n[j]]++] = k;
 }
 
-// Outward unit normal of the facet, the node's signed distance from its plane, and the
-// barycentric weights of the node's projection.
-bool SurfaceContact::neighbourhood(int node, int facet) const
+bool ContactSurface::neighbourhood(int node, int facet) const
 {
-  const Facet& fc = facets_[facet];
-  for (int k = incident_offset_[node]; k < incident_offset_[node + 1]; ++k) {
-    const Facet& g = facets_[incident_[k]];
+  const Facet& fc = facets[facet];
+  for (int k = incident_offset[node]; k < incident_offset[node + 1]; ++k) {
+    const Facet& g = facets[incident[k]];
     for (int i = 0; i < g.nn; ++i)
       for (int j = 0; j < fc.nn; ++j)
         if (g.n[i] == fc.n[j]) return true;
@@ -70,11 +63,12 @@ bool SurfaceContact::neighbourhood(int node, int facet) const
   return false;
 }
 
-bool SurfaceContact::touch(int node, int facet, const double* x, Touch& t) const
+/* ---------------------------------------------------------------------- */
+
+// Outward unit normal of the facet (positions x), the signed distance of q from its plane, and
+// the barycentric weights of q's projection.
+bool SurfaceContact::touch(const double* q, const Facet& fc, const double* x, Touch& t) const
 {
-  const Facet& fc = facets_[facet];
-  if (neighbourhood(node, facet)) return false;
-  const double* q = &x[3 * node];
   const double* a = &x[3 * fc.n[0]];
   const double* b = &x[3 * fc.n[1]];
   double n[3], size;
@@ -112,37 +106,34 @@ bool SurfaceContact::touch(int node, int facet, const double* x, Touch& t) const
     if (t.w[j] < -kBaryTol) return false;
   const double dist = (q[0] - a[0]) * n[0] + (q[1] - a[1]) * n[1] + (q[2] - a[2]) * n[2];
   if (!(dist < 0) || -dist > 0.5 * size) return false;
-  t.facet = facet;
   t.depth = -dist;
   std::copy(n, n + 3, t.normal);
   return true;
 }
 
-double SurfaceContact::stiffness(int node, int facet, const double* x) const
+double SurfaceContact::stiffness(const double* q, const Facet& fc, const double* x) const
 {
-  const Facet& fc = facets_[facet];
   double t = opt_.thickness;
   if (fc.nn == 3)
     t = facet_size(&x[3 * fc.n[0]], &x[3 * fc.n[1]], &x[3 * fc.n[2]]);
   else if (opt_.axisymmetric)
-    t = 2 * M_PI * std::max(x[3 * node], 0.0);
+    t = 2 * M_PI * std::max(q[0], 0.0);
   return opt_.penalty_scale * opt_.youngs * t;
 }
 
-void SurfaceContact::apply(int node, const Touch& t, const double* x, const double* v,
-                           const double* m, double dt, double* f) const
+void SurfaceContact::apply(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
+                           const ContactBodyState& b, double dt) const
 {
-  const Facet& fc = facets_[t.facet];
-  const double fn = stiffness(node, t.facet, x) * t.depth;
+  const double fn = stiffness(&a.x[3 * node], fc, b.x) * t.depth;
   double force[3];
   for (int d = 0; d < 3; ++d)
     force[d] = fn * t.normal[d];
   if (opt_.friction > 0) {
     double vr[3];
     for (int d = 0; d < 3; ++d) {
-      vr[d] = v[3 * node + d];
+      vr[d] = a.v[3 * node + d];
       for (int j = 0; j < fc.nn; ++j)
-        vr[d] -= t.w[j] * v[3 * fc.n[j] + d];
+        vr[d] -= t.w[j] * b.v[3 * fc.n[j] + d];
     }
     const double vn = vr[0] * t.normal[0] + vr[1] * t.normal[1] + vr[2] * t.normal[2];
     double vt[3];
@@ -150,62 +141,82 @@ void SurfaceContact::apply(int node, const Touch& t, const double* x, const doub
       vt[d] = vr[d] - vn * t.normal[d];
     const double speed = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
     if (speed > 0) {
-      const double ft = std::min(opt_.friction * fn, m[node] * speed / dt);
+      const double ft = std::min(opt_.friction * fn, a.m[node] * speed / dt);
       for (int d = 0; d < 3; ++d)
         force[d] -= ft * vt[d] / speed;
     }
   }
   for (int d = 0; d < 3; ++d) {
-    f[3 * node + d] += force[d];
-    for (int j = 0; j < fc.nn; ++j)
-      f[3 * fc.n[j] + d] -= t.w[j] * force[d];
+    if (a.f) a.f[3 * node + d] += force[d];
+    if (b.f)
+      for (int j = 0; j < fc.nn; ++j)
+        b.f[3 * fc.n[j] + d] -= t.w[j] * force[d];
   }
 }
 
-int SurfaceContact::evaluate(const double* x, const double* v, const double* m, double dt,
-                             double* f)
+void SurfaceContact::rebuild_search(const ContactSurface& facets_of, const double* xb, int ns,
+                                    double buffer)
 {
-  if (facets_.empty()) return 0;
-  const int ns = static_cast<int>(nodes_.size());
+  std::vector<Aabb> boxes(facets_of.facets.size());
+  for (size_t k = 0; k < boxes.size(); ++k) {
+    const Facet& fc = facets_of.facets[k];
+    for (int d = 0; d < 3; ++d) {
+      boxes[k].lo[d] = std::numeric_limits<double>::max();
+      boxes[k].hi[d] = -std::numeric_limits<double>::max();
+    }
+    for (int j = 0; j < fc.nn; ++j)
+      for (int d = 0; d < 3; ++d) {
+        boxes[k].lo[d] = std::min(boxes[k].lo[d], xb[3 * fc.n[j] + d]);
+        boxes[k].hi[d] = std::max(boxes[k].hi[d], xb[3 * fc.n[j] + d]);
+      }
+  }
+  sphere_.assign(4 * ns, 0.0);
+  for (int s = 0; s < ns; ++s)
+    for (int d = 0; d < 3; ++d)
+      sphere_[4 * s + d] = sx_[3 * s + d];
+  search_ = BufferedSearch(buffer);
+  search_.build(boxes, sphere_.data(), ns);
+  search_.remember_positions(sxb_.data(), static_cast<int>(sxb_.size() / 3), sx_.data(), ns);
+  stale_ = false;
+}
+
+int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodyState& a,
+                             const ContactSurface& facets_of, const ContactBodyState& b, bool self,
+                             double dt)
+{
+  if (facets_of.facets.empty() || nodes_of.nodes.empty()) return 0;
+  const int ns = static_cast<int>(nodes_of.nodes.size());
   sx_.resize(3 * ns);
   for (int s = 0; s < ns; ++s)
     for (int d = 0; d < 3; ++d)
-      sx_[3 * s + d] = x[3 * nodes_[s] + d];
-  // Facet nodes are boundary nodes too: the relative approach is at most twice their largest
-  // motion, which needs_rebuild bounds by counting them as both nodes and spheres.
-  if (stale_ || search_.needs_rebuild(sx_.data(), ns, sx_.data(), ns)) {
-    std::vector<Aabb> boxes(facets_.size());
-    for (size_t k = 0; k < facets_.size(); ++k) {
-      for (int d = 0; d < 3; ++d) {
-        boxes[k].lo[d] = std::numeric_limits<double>::max();
-        boxes[k].hi[d] = -std::numeric_limits<double>::max();
-      }
-      for (int j = 0; j < facets_[k].nn; ++j)
-        for (int d = 0; d < 3; ++d) {
-          boxes[k].lo[d] = std::min(boxes[k].lo[d], x[3 * facets_[k].n[j] + d]);
-          boxes[k].hi[d] = std::max(boxes[k].hi[d], x[3 * facets_[k].n[j] + d]);
-        }
-    }
-    sphere_.assign(4 * ns, 0.0);
-    for (int s = 0; s < ns; ++s)
-      for (int d = 0; d < 3; ++d)
-        sphere_[4 * s + d] = sx_[3 * s + d];
-    search_.build(boxes, sphere_.data(), ns);
-    search_.remember_positions(sx_.data(), ns, sx_.data(), ns);
-    stale_ = false;
-  }
+      sx_[3 * s + d] = a.x[3 * nodes_of.nodes[s] + d];
+  const int nb = static_cast<int>(facets_of.nodes.size());
+  sxb_.resize(3 * nb);
+  for (int s = 0; s < nb; ++s)
+    for (int d = 0; d < 3; ++d)
+      sxb_[3 * s + d] = b.x[3 * facets_of.nodes[s] + d];
+  // The search reach covers the deepest accepted contact (half the largest facet); it is
+  // rebuilt once nodes and facet nodes together moved by more than that.
+  const double buffer = 0.5 * facets_of.hmax;
+  if (stale_ || search_.needs_rebuild(sxb_.data(), nb, sx_.data(), ns))
+    rebuild_search(facets_of, b.x, ns, buffer);
   const auto& cand = search_.candidates();
   int contacts = 0;
   size_t c = 0;
   while (c < cand.size()) {
-    const int s = cand[c].first;
+    const int s = cand[c].first, node = nodes_of.nodes[s];
     Touch best;
     for (; c < cand.size() && cand[c].first == s; ++c) {
+      const int k = cand[c].second;
+      if (self && facets_of.neighbourhood(node, k)) continue;
       Touch t;
-      if (touch(nodes_[s], cand[c].second, x, t) && t.depth > best.depth) best = t;
+      if (touch(&a.x[3 * node], facets_of.facets[k], b.x, t) && t.depth > best.depth) {
+        best = t;
+        best.facet = k;
+      }
     }
     if (best.facet >= 0) {
-      apply(nodes_[s], best, x, v, m, dt, f);
+      apply(node, best, facets_of.facets[best.facet], a, b, dt);
       ++contacts;
     }
   }

@@ -28,37 +28,55 @@ struct SurfaceContactOptions {
 // such facets the deepest wins (lowest index among equals), so a node has at most one contact.
 // Crack faces start closed (a split node and its copy coincide): they touch with zero
 // penetration and push apart only when the crack would close beyond contact.
+// The boundary of one body for surface contact: facets, their nodes, facets around each node.
+struct ContactSurface {
+  std::vector<Facet> facets;
+  std::vector<int> nodes;                     // boundary nodes, ascending
+  std::vector<int> incident_offset, incident; // per mesh node: boundary facets around it
+  double hmax = 0;                            // largest facet size (reference)
+  void build(const Mesh& mesh, const std::vector<Facet>& boundary);
+  // Whether `facet` shares a node with a facet around `node` (same body only).
+  bool neighbourhood(int node, int facet) const;
+};
+
+// A body's nodal state as surface contact sees it; forces are added to f (null: not added).
+struct ContactBodyState {
+  const double* x;
+  const double* v;
+  const double* m;
+  double* f;
+};
+
+// Nodes of one surface against the facets of another (or the same: self contact).
 class SurfaceContact
 {
 public:
   void configure(const SurfaceContactOptions& options) { opt_ = options; }
-  // After any topology change: the facets (boundary of the active mesh) and their nodes.
-  void rebuild(const Mesh& mesh, const std::vector<Facet>& facets);
-  // Adds the contact forces into f (3 per node): on the node along the facet normal, the
-  // reaction on the facet's nodes by the projection's barycentric weights (momentum balance to
-  // round-off), friction from the relative tangential velocity, capped so that it cannot
-  // reverse that velocity within the step (m: node masses). Returns the number of contacts.
-  int evaluate(const double* x, const double* v, const double* m, double dt, double* f);
+  const SurfaceContactOptions& options() const { return opt_; }
+  // After any topology change of either side: the search starts afresh.
+  void invalidate() { stale_ = true; }
+  // Adds the contact forces of `nodes_of`'s nodes on `facets_of`'s facets: on the node along
+  // the facet normal, the reaction on the facet's nodes by the projection's barycentric weights
+  // (momentum balance to round-off), friction from the relative tangential velocity, capped so
+  // that it cannot reverse that velocity within the step. `self`: the same body (its own surface
+  // neighbourhood excluded). Returns the number of contacts.
+  int evaluate(const ContactSurface& nodes_of, const ContactBodyState& a,
+               const ContactSurface& facets_of, const ContactBodyState& b, bool self, double dt);
 
 private:
   struct Touch {
     int facet = -1;
     double depth = 0, normal[3], w[3];
   };
-  bool touch(int node, int facet, const double* x, Touch& t) const;
-  void apply(int node, const Touch& t, const double* x, const double* v, const double* m, double dt,
-             double* f) const;
-  double stiffness(int node, int facet, const double* x) const;
+  bool touch(const double* q, const Facet& fc, const double* x, Touch& t) const;
+  void apply(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
+             const ContactBodyState& b, double dt) const;
+  double stiffness(const double* q, const Facet& fc, const double* x) const;
+  void rebuild_search(const ContactSurface& facets_of, const double* xb, int ns, double buffer);
 
   SurfaceContactOptions opt_;
-  const Mesh* mesh_ = nullptr;
-  std::vector<Facet> facets_;
-  std::vector<int> nodes_;                      // boundary nodes
-  std::vector<int> incident_offset_, incident_; // per mesh node: boundary facets around it
-  bool neighbourhood(int node, int facet) const;
   BufferedSearch search_{0.0};
-  double buffer_ = 0;
-  std::vector<double> sphere_, sx_;
+  std::vector<double> sphere_, sx_, sxb_;
   bool stale_ = true;
 };
 

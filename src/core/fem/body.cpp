@@ -35,6 +35,7 @@ void Body::resize_nodes(int nn)
   f_.resize(3 * nn, 0.0);
   f_contact_.resize(3 * nn, 0.0);
   f_contact_prev_.resize(3 * nn, 0.0);
+  f_pending_.resize(3 * nn, 0.0);
   v_prescribed_.resize(3 * nn, 0.0);
   bc_.resize(nn, NodeBc::Free);
   held_.resize(nn, 0);
@@ -172,7 +173,8 @@ void Body::half_kick(double dt)
 void Body::begin_forces()
 {
   std::fill(f_.begin(), f_.end(), 0.0);
-  std::fill(f_contact_.begin(), f_contact_.end(), 0.0);
+  std::swap(f_contact_, f_pending_);
+  std::fill(f_pending_.begin(), f_pending_.end(), 0.0);
 }
 
 double Body::add_internal_forces(int* first_inverted)
@@ -314,6 +316,7 @@ int Body::split_node(const SplitPlan& plan)
     v_[3 * copy + d] = v_[3 * node + d];
     v_prescribed_[3 * copy + d] = v_prescribed_[3 * node + d];
     f_contact_prev_[3 * copy + d] = 0;
+    f_pending_[3 * copy + d] = 0;
   }
   bc_[copy] = bc_[node];
   held_[copy] = held_[node];

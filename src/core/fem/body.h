@@ -2,6 +2,7 @@
 // its topology operations (node split, erosion).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +51,8 @@ public:
   void half_kick(double dt);
   // Zeroes the force and contact buffers.
   void begin_forces();
+  // Zeroes the internal forces only (to take them again after an erosion within the step).
+  void clear_internal_forces() { std::fill(f_.begin(), f_.end(), 0.0); }
   // Internal forces of this rank's elements into forces(); returns their strain energy.
   // An inverted element (det F <= 0) sets *first_inverted (if still < 0).
   double add_internal_forces(int* first_inverted);
@@ -91,6 +94,9 @@ public:
   const std::vector<double>& reactions() const { return reactions_; }
   double* forces_data() { return f_.data(); }
   double* contact_forces() { return f_contact_.data(); }
+  // Contact forces computed by another body's step (body-body contact) before this body's
+  // force evaluation; begin_forces() moves them into contact_forces().
+  double* pending_contact_forces() { return f_pending_.data(); }
   double time() const { return time_; }
   double strain_energy() const { return strain_energy_; }
   double external_work() const { return external_work_; }
@@ -143,7 +149,7 @@ private:
   bool rigid_ = false;
   RigidMotion motion_;
   std::vector<double> x_, v_, f_, mass_, inv_mass_;
-  std::vector<double> f_contact_, f_contact_prev_;
+  std::vector<double> f_contact_, f_contact_prev_, f_pending_;
   std::vector<NodeBc> bc_;
   std::vector<double> v_prescribed_;
   std::vector<std::uint8_t> held_; // held components (bit d), Partial nodes
