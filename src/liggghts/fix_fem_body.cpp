@@ -960,6 +960,39 @@ void FixFemBody::erode_inverted(int e)
   }
 }
 
+// When the body has come apart into more pieces: their count and masses, largest first.
+void FixFemBody::log_fragments()
+{
+  std::vector<int> comp;
+  const int count = fracdem::element_components(body_.mesh(), comp);
+  if (count == last_fragments_ || comm->me != 0) {
+    last_fragments_ = count;
+    return;
+  }
+  last_fragments_ = count;
+  const fracdem::Mesh& mesh = body_.mesh();
+  std::vector<int> node_comp(body_.num_nodes(), -1);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (comp[e] >= 0)
+      for (int a = 0; a < fracdem::nodes_per_elem(mesh.etype[e]); ++a)
+        node_comp[mesh.conn[e][a]] = comp[e];
+  std::vector<double> mass(count, 0.0);
+  for (int n = 0; n < body_.num_nodes(); ++n)
+    if (node_comp[n] >= 0) mass[node_comp[n]] += body_.masses()[n];
+  std::sort(mass.rbegin(), mass.rend());
+  std::string line = "fix fem/body " + std::string(id) + ": step " +
+                     std::to_string(update->ntimestep) + ": " + std::to_string(count) +
+                     " fragments, masses";
+  for (size_t k = 0; k < mass.size() && k < 8; ++k) {
+    char m[32];
+    snprintf(m, sizeof(m), " %.4g", mass[k]);
+    line += m;
+  }
+  line += mass.size() > 8 ? " ...\n" : "\n";
+  if (logfile) fputs(line.c_str(), logfile);
+  if (screen) fputs(line.c_str(), screen);
+}
+
 int FixFemBody::split_nodes() const
 {
   const auto& parents = body_.parents();
@@ -993,6 +1026,7 @@ void FixFemBody::fracture()
     error->all(FLERR, "fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
   rebuild_surfaces();
   log_splits(events);
+  log_fragments();
   const double dt_before = dt_stable_;
   dt_stable_ = body_.stable_time_step();
   if (dt_stable_ < update->dt) {

@@ -105,6 +105,8 @@ private:
   void fracture();
   void log_splits(const std::vector<fracdem::SplitEvent>& events);
   int split_nodes() const;
+  void log_fragments();
+  int last_fragments_ = 1;
   void erode_inverted(int e);
   int eroded_ = 0;
   int fragments() const;
