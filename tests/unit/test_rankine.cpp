@@ -348,7 +348,8 @@ TEST(Rankine, PureShearOnsetAtMuGammaEqualsFtWithNormalAt45Degrees)
     EXPECT_EQ(rankine_damage(pt.state.data()), 0.0);
     EXPECT_EQ(rankine_band_width(pt.state.data()), 0.0);
     EXPECT_EQ(rankine_crack_normal(pt.state.data())[0], 0.0);
-    EXPECT_LT(rel_err(pt.state[0], 0.999 * p.ft / p.E), 1e-12); // kappa = mu gamma / E
+    // Below onset kappa is only bounded (the Gershgorin fast path skips the eigen-solve).
+    EXPECT_LE(pt.state[0], p.ft / p.E);
     EXPECT_LT(rel_err(pt.sigma[3], mu * 0.999 * gc), 1e-12);
     const double g = 1.001 * gc, eps[6] = {0, 0, 0, g, 0, 0};
     pt.step(p, m, eps, X);

@@ -168,6 +168,17 @@ double rankine_stress(const RankineParams& p, StressMode mode, const double eps_
   double eps[6], str[6], s[3], n[3][3];
   effective_strain(mode, eps_in, eps);
   trial_stress(p, mode, eps, str);
+  // Virgin point whose largest principal stress cannot reach f_t (Gershgorin bound): elastic,
+  // no eigen-solve (most points of a body, most of the time).
+  const double s1_bound = std::max({str[0] + std::fabs(str[3]) + std::fabs(str[5]),
+                                    str[1] + std::fabs(str[3]) + std::fabs(str[4]),
+                                    str[2] + std::fabs(str[5]) + std::fabs(str[4])});
+  if (state[kDamage] == 0 && s1_bound < p.ft && !(state[kKappa] > p.ft / p.E)) {
+    std::copy(str, str + 6, sigma);
+    std::copy(eps, eps + 6, state + kEpsPrev);
+    std::copy(sigma, sigma + 6, state + kSigPrev);
+    return 0.5 * voigt_dot(sigma, eps);
+  }
   principal(str, s, n);
   update_damage(p, s[0], n[0], elem_X, nnodes, state);
   const double d = state[kDamage];

@@ -12,7 +12,8 @@ namespace fracdem
 //  * Principal decomposition sigma_tr = sum_i s_i n_i n_i^T, s_1 >= s_2 >= s_3, by cyclic Jacobi
 //    to machine precision (deterministic: the same input gives the same bits). Ties keep the
 //    coordinate order; each n_i is signed so that its largest-magnitude component is positive.
-//  * Equivalent strain kappa = max over history of s_1 / E (never decreases). kappa0 = ft / E.
+//  * Equivalent strain kappa = max over history of s_1 / E (never decreases; below f_t / E,
+//    where a Gershgorin bound already proves s_1 < f_t, it is not updated). kappa0 = ft / E.
 //  * Softening curve f(kappa), the stress still carried across the crack for kappa > kappa0:
 //      Linear     : f = ft (1 - (kappa - kappa0) / (kappa_f - kappa0)), kappa_f = 2 gf / (ft h),
 //                   f = 0 for kappa >= kappa_f;
