@@ -68,4 +68,19 @@ for np_ in (1, 2):
     h.check(len(a) == len(b) and len(a) > 0, f"np={np_}: continued thermo has {len(b)} rows")
     worst = max(abs(x - y) / max(abs(x), abs(y), 1e-30) for ra, rb in zip(a, b) for x, y in zip(ra, rb))
     h.check(worst < 1e-10, f"np={np_}: restart of a cracked bar continues exactly (worst rel. diff {worst:.1e})")
+# The same in 3D (tet4): peak f_t A, dissipation G_f A, one crack through the 5 x 5 nodes of a
+# cross-section.
+wd = tempfile.mkdtemp(prefix="fracture_bar_3d_")
+h.make_box_mesh(os.path.join(wd, "bar.msh"), (20, 4, 4), (0.2, 0.04, 0.04))
+h.copy_inputs(["in.fracture_bar_3d"], wd)
+h.run(args.exe, "in.fracture_bar_3d", np_=2, workdir=wd)
+import pandas as pd
+e3 = pd.read_csv(os.path.join(wd, "energy.csv"))
+a3 = 0.04 * 0.04
+peak3 = e3["reaction_xmax_x"].max()
+h.check(abs(peak3 / (FT * a3) - 1) < 0.05, f"3D: peak force {peak3:.1f} N within 5 % of f_t A = {FT * a3:.1f} N")
+d3 = e3["fracture_energy"].iloc[-1]
+h.check(abs(d3 / (GF * a3) - 1) < 0.15, f"3D: dissipated {d3:.4f} J within 15 % of G_f A = {GF * a3:.4f} J")
+h.check(e3["fragments"].iloc[-1] == 2 and e3["split_nodes"].iloc[-1] == 25,
+        f"3D: two fragments from 25 splits (got {e3['fragments'].iloc[-1]}, {e3['split_nodes'].iloc[-1]})")
 print(f"OK: peak {peak:.1f} N, dissipated {dissipated:.4f} J, {len(splits)} splits")
