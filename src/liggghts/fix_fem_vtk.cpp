@@ -12,7 +12,7 @@
 #include "update.h"
 
 #include "fix_fem_body.h"
-#include "fracture/node_split.h"
+#include "fem/node_split.h"
 #include "materials/material_table.h"
 #include "io/vtk_writer.h"
 

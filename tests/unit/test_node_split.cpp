@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "fracture/node_split.h"
+#include "fem/node_split.h"
 #include "test_support.h"
 
 using namespace fracdem;

@@ -8,9 +8,9 @@
 
 #include "fem/body_motion.h"
 #include "fem/fe_space.h"
-#include "fem/material.h"
+#include "materials/material.h"
 #include "fem/mesh.h"
-#include "fracture/node_split.h"
+#include "fem/node_split.h"
 
 namespace fracdem
 {

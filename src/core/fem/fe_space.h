@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "fem/material.h"
+#include "materials/material.h"
 #include "fem/mesh.h"
 
 namespace fracdem

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "fem/material.h"
+#include "materials/material.h"
 
 namespace fracdem
 {

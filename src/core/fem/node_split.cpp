@@ -1,5 +1,5 @@
 // Nodal fracture topology: element stars, plane-based split plans made face-connected, splitting.
-#include "fracture/node_split.h"
+#include "fem/node_split.h"
 
 #include <algorithm>
 #include <iterator>
