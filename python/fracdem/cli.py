@@ -1,5 +1,6 @@
 """Command line: fracdem-plot energy FILE.csv -o out.png | fracdem-plot log LOGFILE --columns ... -o out.png
-| fracdem-plot balance balance.csv -o prefix (B history and per-rank work of a fix balance/graph run)."""
+| fracdem-plot balance balance.csv -o prefix (B history and per-rank work of a fix balance/graph run)
+| fracdem-plot fracture ENERGY.csv --group G [--component x] -o prefix (load-displacement, energies)."""
 import argparse
 import os
 import sys
@@ -18,6 +19,11 @@ def main(argv=None):
     b = sub.add_parser("balance", help="plot a fix balance/graph out CSV: B history, per-rank work")
     b.add_argument("file")
     b.add_argument("-o", "--output", required=True, help="prefix: PREFIX_history.png, PREFIX_rank_work.png")
+    fr = sub.add_parser("fracture", help="load-displacement and energy history of a fracturing body")
+    fr.add_argument("file")
+    fr.add_argument("--group", required=True, help="a fixed / prescribed_velocity group of the body")
+    fr.add_argument("--component", default="x", choices=["x", "y", "z"])
+    fr.add_argument("-o", "--output", required=True, help="prefix: PREFIX_load.png, PREFIX_energy.png")
     a = p.parse_args(argv)
     if not os.path.exists(a.file):
         print(f"fracdem-plot: no such file: {a.file}", file=sys.stderr)
@@ -37,6 +43,19 @@ def main(argv=None):
         print(f"ranks {nprocs}: mean measured B {s['measured_B']:.3f}, work-model speedup "
               f"{s['speedup']:.2f}, {s['repartitions']} repartitions, {s['migrated']:.0f} migrated")
         print(f"wrote {a.output}_history.png {a.output}_rank_work.png")
+        return 0
+    if a.what == "fracture":
+        df = fem.read_energy(a.file)
+        try:
+            s = fem.fracture_summary(df, a.group, a.component)
+        except KeyError as err:
+            print(f"fracdem-plot fracture: {err.args[0]}", file=sys.stderr)
+            return 2
+        plots.plot_fracture(df, a.group, a.component, out_prefix=a.output)
+        print(f"peak load {s['peak_load']:.6g} N at displacement {s['displacement_at_peak']:.6g} m; "
+              f"fracture energy {s['fracture_energy']:.6g} J; {s['split_nodes']} split nodes, "
+              f"{s['fragments']} fragments")
+        print(f"wrote {a.output}_load.png {a.output}_energy.png")
         return 0
     if a.what == "energy":
         plots.plot_energy(fem.read_energy(a.file), out=a.output)

@@ -17,6 +17,20 @@ def read_energy(path):
     return df
 
 
+def fracture_summary(df, group, component="x"):
+    """Peak reaction of a fixed / prescribed_velocity group, the group's displacement there, and the
+    energy dissipated by cracking, split nodes and fragments at the end of a fem/body energy file."""
+    r, u = f"reaction_{group}_{component}", f"displacement_{group}_{component}"
+    if r not in df or u not in df:
+        groups = sorted({c.split("_", 1)[1].rsplit("_", 1)[0] for c in df if c.startswith("reaction_")})
+        raise KeyError(f"energy file has no group {group!r} (groups: {groups})")
+    load = df[r].abs()
+    k = int(load.idxmax())
+    return {"peak_load": float(load[k]), "displacement_at_peak": float(df[u][k]),
+            "fracture_energy": float(df["fracture_energy"].iloc[-1]),
+            "split_nodes": int(df["split_nodes"].iloc[-1]), "fragments": int(df["fragments"].iloc[-1])}
+
+
 def read_pvd(path):
     """List of (time, absolute .vtu path) from a ParaView .pvd series index."""
     base = os.path.dirname(os.path.abspath(path))

@@ -59,3 +59,23 @@ def plot_thermo(log, columns, out=None):
         ax.plot(df["Step"], df[c], label=c)
     ax.set_xlabel("step")
     return finish_figure(fig, ax, out)
+
+
+def plot_fracture(df, group, component="x", out_prefix=None):
+    """Load-displacement curve of a group (|reaction| against its mean displacement) and the energy
+    history (kinetic, strain, fracture, boundary work) of a fracturing fem/body run."""
+    save = out_prefix is not None
+    _, fig1, ax1 = new_figure(save)
+    u, r = df[f"displacement_{group}_{component}"], df[f"reaction_{group}_{component}"].abs()
+    ax1.plot(u, r, label=f"{group} ({component})")
+    ax1.set_xlabel("displacement (m)")
+    ax1.set_ylabel("load (N)")
+    finish_figure(fig1, ax1, out=save and f"{out_prefix}_load.png", close=save)
+    _, fig2, ax2 = new_figure(save)
+    for c in ("kinetic", "strain", "fracture_energy", "boundary_work"):
+        if c in df:
+            ax2.plot(df["time"], df[c], label=c)
+    ax2.set_xlabel("time (s)")
+    ax2.set_ylabel("energy (J)")
+    finish_figure(fig2, ax2, out=save and f"{out_prefix}_energy.png", close=save)
+    return fig1, fig2

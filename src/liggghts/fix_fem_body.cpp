@@ -644,6 +644,9 @@ void FixFemBody::init()
     for (const std::string& g : reaction_groups_)
       fprintf(energy_fp_, ",reaction_%s_x,reaction_%s_y,reaction_%s_z", g.c_str(), g.c_str(),
               g.c_str());
+    for (const std::string& g : reaction_groups_)
+      fprintf(energy_fp_, ",displacement_%s_x,displacement_%s_y,displacement_%s_z", g.c_str(),
+              g.c_str(), g.c_str());
     fputc('\n', energy_fp_);
   }
   check_time_step();
@@ -1070,6 +1073,15 @@ void FixFemBody::write_energy_row()
   const auto& r = body_.reactions();
   for (size_t k = 0; k < 3 * reaction_groups_.size(); ++k)
     fprintf(energy_fp_, ",%.12g", k < r.size() ? r[k] : 0.0);
+  // Mean displacement of each group's nodes (load-displacement curves).
+  for (const std::string& g : reaction_groups_) {
+    const std::vector<int> nodes = node_set(g, "energy_file");
+    double u[3] = {0, 0, 0};
+    for (int n : nodes)
+      for (int d = 0; d < 3; ++d)
+        u[d] += (body_.positions()[3 * n + d] - body_.mesh().X[3 * n + d]) / nodes.size();
+    fprintf(energy_fp_, ",%.12g,%.12g,%.12g", u[0], u[1], u[2]);
+  }
   fputc('\n', energy_fp_);
   fflush(energy_fp_);
 }
