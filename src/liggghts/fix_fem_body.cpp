@@ -464,7 +464,9 @@ void FixFemBody::check_arguments()
     error->all(FLERR, msg.c_str());
   }
   if (compliance_combined_ < 0) compliance_combined_ = rigid_ ? 1 : 0;
-  if (contact_bodies_ < 0) contact_bodies_ = fracture_every_ > 0 ? 1 : 0;
+  // Off unless asked for: with the rotating crack, contact between fragments can feed energy into
+  // fully cracked elements (docs/fracture.md, restrictions).
+  if (contact_bodies_ < 0) contact_bodies_ = 0;
   if (contact_bodies_ && rigid_)
     error->all(FLERR, "fix fem/body: keyword 'contact_bodies yes' needs a deformable body");
 }
@@ -1019,9 +1021,10 @@ void FixFemBody::fracture()
   fracdem::FailureMap map;
   fracdem::build_failure_map(body_, map);
   const std::vector<int> points = fracdem::crack_points(map);
-  if (points.empty()) return;
-  const std::vector<fracdem::SplitEvent> events = fracdem::insert_cracks(body_, map, points);
-  if (events.empty()) return;
+  std::vector<fracdem::SplitEvent> events;
+  if (!points.empty()) events = fracdem::insert_cracks(body_, map, points);
+  const int eroded = erode_collapsed();
+  if (events.empty() && eroded == 0) return;
   // Replicas must stay identical: a rank that split differently stops the run at once.
   int counts[2] = {body_.num_nodes(), -body_.num_nodes()};
   MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT, MPI_MAX, world);
@@ -1030,17 +1033,43 @@ void FixFemBody::fracture()
   rebuild_surfaces();
   log_splits(events);
   log_fragments();
-  const double dt_before = dt_stable_;
   dt_stable_ = body_.stable_time_step();
   if (dt_stable_ < update->dt) {
     char msg[256];
     snprintf(msg, sizeof(msg),
-             "fix fem/body %s: after cracking at step " BIGINT_FORMAT
-             " the stable FE time step is %g < host time step %g",
+             "fix fem/body %s: at step " BIGINT_FORMAT
+             " the stable FE time step of the cracked body is %g < host time step %g",
              id, update->ntimestep, dt_stable_, update->dt);
-    error->all(FLERR, msg);
+    if (dt_check_error_)
+      error->all(FLERR, msg);
+    else if (comm->me == 0)
+      error->warning(FLERR, msg);
   }
-  (void)dt_before;
+}
+
+// A failed element (no tension left) that has been squeezed into a sliver would collapse the
+// stable time step of the whole body: it is eroded (logged; its nodes keep their mass).
+int FixFemBody::erode_collapsed()
+{
+  int eroded = 0;
+  const fracdem::Mesh& mesh = body_.mesh();
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    if (!mesh.active[e]) continue;
+    double n[3];
+    if (body_.element_failure(e, n) < 1.0 || body_.element_time_step(e) >= update->dt) continue;
+    body_.erode(e);
+    ++eroded;
+    if (comm->me != 0) continue;
+    char line[256];
+    snprintf(line, sizeof(line),
+             "fix fem/body %s: step " BIGINT_FORMAT
+             ": failed element %d squeezed below the host time step, eroded\n",
+             id, update->ntimestep, e);
+    if (logfile) fputs(line, logfile);
+    if (screen) fputs(line, screen);
+  }
+  eroded_ += eroded;
+  return eroded;
 }
 
 void FixFemBody::log_splits(const std::vector<fracdem::SplitEvent>& events)

@@ -108,6 +108,7 @@ private:
   void log_fragments();
   int last_fragments_ = 1;
   void erode_inverted(int e);
+  int erode_collapsed();
   int eroded_ = 0;
   int fragments() const;
 
@@ -153,8 +154,8 @@ private:
   void find_contact_partners();
   void partner_changed(FixFemBody* other);
   int body_contacts();
-  int contact_bodies_ = -1; // -1: default (yes for fracturing bodies)
-  double contact_penalty_ = 1.0;
+  int contact_bodies_ = -1; // -1: default (no)
+  double contact_penalty_ = 0.1;
   int surface_contacts_ = 0;
   void rebuild_surfaces();
   double gravity_[3] = {0, 0, 0};

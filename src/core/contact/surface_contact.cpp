@@ -27,13 +27,23 @@ void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
 {
   facets = boundary;
   nodes.clear();
-  hmax = 0;
+  reach.assign(facets.size(), 0.0);
+  max_reach = 0;
   const double* X = mesh.X.data();
-  for (const Facet& fc : facets) {
+  for (size_t k = 0; k < facets.size(); ++k) {
+    const Facet& fc = facets[k];
     for (int j = 0; j < fc.nn; ++j)
       nodes.push_back(fc.n[j]);
-    hmax = std::max(
-        hmax, facet_size(&X[3 * fc.n[0]], &X[3 * fc.n[1]], fc.nn == 3 ? &X[3 * fc.n[2]] : nullptr));
+    const double s =
+        facet_size(&X[3 * fc.n[0]], &X[3 * fc.n[1]], fc.nn == 3 ? &X[3 * fc.n[2]] : nullptr);
+    // Altitude of the owning element over the facet: 2A/L (tri3), A/L (quad4), 3V/area (tet4).
+    const double measure = std::fabs(signed_measure(mesh, fc.elem));
+    const ElemType t = mesh.etype[fc.elem];
+    const double altitude = t == ElemType::Tet4   ? 3 * measure / (s * s)
+                            : t == ElemType::Tri3 ? 2 * measure / s
+                                                  : measure / s;
+    reach[k] = 0.5 * altitude;
+    max_reach = std::max(max_reach, reach[k]);
   }
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
@@ -67,7 +77,8 @@ bool ContactSurface::neighbourhood(int node, int facet) const
 
 // Outward unit normal of the facet (positions x), the signed distance of q from its plane, and
 // the barycentric weights of q's projection.
-bool SurfaceContact::touch(const double* q, const Facet& fc, const double* x, Touch& t) const
+bool SurfaceContact::touch(const double* q, const Facet& fc, double reach, const double* x,
+                           Touch& t) const
 {
   const double* a = &x[3 * fc.n[0]];
   const double* b = &x[3 * fc.n[1]];
@@ -105,7 +116,7 @@ bool SurfaceContact::touch(const double* q, const Facet& fc, const double* x, To
   for (int j = 0; j < fc.nn; ++j)
     if (t.w[j] < -kBaryTol) return false;
   const double dist = (q[0] - a[0]) * n[0] + (q[1] - a[1]) * n[1] + (q[2] - a[2]) * n[2];
-  if (!(dist < 0) || -dist > 0.5 * size) return false;
+  if (!(dist < 0) || -dist > reach) return false;
   t.depth = -dist;
   std::copy(n, n + 3, t.normal);
   return true;
@@ -195,9 +206,9 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
   for (int s = 0; s < nb; ++s)
     for (int d = 0; d < 3; ++d)
       sxb_[3 * s + d] = b.x[3 * facets_of.nodes[s] + d];
-  // The search reach covers the deepest accepted contact (half the largest facet); it is
-  // rebuilt once nodes and facet nodes together moved by more than that.
-  const double buffer = 0.5 * facets_of.hmax;
+  // The search reach covers the deepest accepted contact; it is rebuilt once nodes and facet
+  // nodes together moved by more than that.
+  const double buffer = facets_of.max_reach;
   if (stale_ || search_.needs_rebuild(sxb_.data(), nb, sx_.data(), ns))
     rebuild_search(facets_of, b.x, ns, buffer);
   const auto& cand = search_.candidates();
@@ -210,7 +221,8 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
       const int k = cand[c].second;
       if (self && facets_of.neighbourhood(node, k)) continue;
       Touch t;
-      if (touch(&a.x[3 * node], facets_of.facets[k], b.x, t) && t.depth > best.depth) {
+      if (touch(&a.x[3 * node], facets_of.facets[k], facets_of.reach[k], b.x, t) &&
+          t.depth > best.depth) {
         best = t;
         best.facet = k;
       }

@@ -24,7 +24,9 @@ struct SurfaceContactOptions {
 // Every boundary node is checked against the boundary facets that share no node with the facets
 // around it (its own surface neighbourhood: a corner is not a contact). A node is
 // in contact with a facet when its projection falls on the facet (barycentric coordinates >=
-// -1 %) and it lies behind the facet's outward plane by less than half the facet's size; of
+// -1 %) and it lies behind the facet's outward plane by less than half the altitude of the
+// facet's element over it (so a node at the element's far vertex, e.g. the twin of a split
+// node, is never taken for a penetration); of
 // such facets the deepest wins (lowest index among equals), so a node has at most one contact.
 // Crack faces start closed (a split node and its copy coincide): they touch with zero
 // penetration and push apart only when the crack would close beyond contact.
@@ -33,7 +35,8 @@ struct ContactSurface {
   std::vector<Facet> facets;
   std::vector<int> nodes;                     // boundary nodes, ascending
   std::vector<int> incident_offset, incident; // per mesh node: boundary facets around it
-  double hmax = 0;                            // largest facet size (reference)
+  std::vector<double> reach; // per facet: deepest accepted contact, half its element altitude
+  double max_reach = 0;
   void build(const Mesh& mesh, const std::vector<Facet>& boundary);
   // Whether `facet` shares a node with a facet around `node` (same body only).
   bool neighbourhood(int node, int facet) const;
@@ -68,7 +71,7 @@ private:
     int facet = -1;
     double depth = 0, normal[3], w[3];
   };
-  bool touch(const double* q, const Facet& fc, const double* x, Touch& t) const;
+  bool touch(const double* q, const Facet& fc, double reach, const double* x, Touch& t) const;
   void apply(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
              const ContactBodyState& b, double dt) const;
   double stiffness(const double* q, const Facet& fc, const double* x) const;

@@ -73,6 +73,9 @@ public:
   // mass and the node keeps the rest, and the force is shared in proportion, so mass, momentum
   // and force sums are unchanged (to round-off). Returns the copy's index.
   int split_node(const SplitPlan& plan);
+  SplitPlan plan_separation(int node) const { return plan_star_separation(mesh_, stars_, node); }
+  // Stable step of element e alone in the current configuration (1e300 if eroded).
+  double element_time_step(int e) const { return space_.element_time_step(mesh_, x_.data(), e); }
   const NodeStars& stars() const { return stars_; }
   // Removes element e from the body (its nodes keep their masses and go on as point masses).
   void erode(int e);

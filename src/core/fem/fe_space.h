@@ -2,6 +2,7 @@
 // dt).
 #pragma once
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -64,6 +65,11 @@ public:
   // element by element by a provable bound of lambda_max(M_e^-1 K_e) (see fe_space.cpp), taken
   // over both the reference and the current configuration x. Returns 1e300 for no active elements.
   double stable_time_step(const Mesh& mesh, const double* x) const;
+  double element_time_step(const Mesh& mesh, const double* x, int e) const
+  {
+    const double w2 = mesh.active[e] ? omega2_bound(mesh, x, e) : 0.0;
+    return w2 > 0 ? 2.0 / std::sqrt(w2) : 1e300;
+  }
   // Same bound for one element, expressed as characteristic length l_e = c * dt_e.
   double characteristic_length(const Mesh& mesh, const double* x, int e) const;
 

@@ -217,6 +217,18 @@ SplitPlan plan_node_split(const Mesh& mesh, const NodeStars& stars, const double
   return plan;
 }
 
+SplitPlan plan_star_separation(const Mesh& mesh, const NodeStars& stars, int node)
+{
+  SplitPlan plan;
+  plan.node = node;
+  const std::vector<int> star(stars.begin(node), stars.end(node));
+  const std::vector<char> side(star.size(), 0);
+  const SideComponents sc = side_components(star_adjacency(mesh, node, star), side, 0);
+  for (size_t i = 0; i < star.size(); ++i)
+    (sc.count > 1 && sc.id[i] != sc.largest ? plan.side_b : plan.side_a).push_back(star[i]);
+  return plan;
+}
+
 int split_node(Mesh& mesh, NodeStars& stars, const SplitPlan& plan)
 {
   check_plan(mesh, stars, plan);

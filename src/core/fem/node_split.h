@@ -48,6 +48,12 @@ SplitPlan plan_node_split(const Mesh& mesh, const NodeStars& stars, const double
 // std::invalid_argument on an empty side or a plan whose sides are not the node's current star.
 int split_node(Mesh& mesh, NodeStars& stars, const SplitPlan& plan);
 
+// A node whose star falls into pieces that touch only at the node (a "bow-tie" left by cracks
+// around it) holds those pieces together by itself. The plan keeps the largest face-connected
+// piece (lowest element among equals) on side a and gives every other piece to side b (empty
+// when the star is face-connected); repeat on the copy until its star is connected too.
+SplitPlan plan_star_separation(const Mesh& mesh, const NodeStars& stars, int node);
+
 // Connected components of the active mesh (elements joined through shared nodes), one id per
 // element (-1 for inactive), ids numbered 0.. in order of their lowest element. Returns the count.
 int element_components(const Mesh& mesh, std::vector<int>& comp);

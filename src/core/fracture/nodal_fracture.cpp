@@ -100,7 +100,30 @@ std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
     on_crack.push_back(1);
     events.push_back(ev);
   }
+  separate_pinched_nodes(body, events);
   return events;
+}
+
+void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
+{
+  // Only nodes on a crack can have been pinched (their stars changed); copies are appended to
+  // the list, so a star of three pieces is taken apart in two passes.
+  std::vector<int> todo;
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (body.parents()[w] >= 0) todo.push_back(w);
+  for (const SplitEvent& ev : events)
+    todo.push_back(ev.node);
+  std::sort(todo.begin(), todo.end());
+  todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+  for (size_t k = 0; k < todo.size(); ++k) {
+    const int v = todo[k];
+    const SplitPlan plan = body.plan_separation(v);
+    if (!plan.splittable()) continue;
+    SplitEvent ev{v, -1, {0, 0, 0}, static_cast<int>(plan.side_b.size())};
+    ev.copy = body.split_node(plan);
+    todo.push_back(ev.copy);
+    events.push_back(ev);
+  }
 }
 
 } // namespace fracdem

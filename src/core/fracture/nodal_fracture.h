@@ -39,4 +39,9 @@ struct SplitEvent {
 std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
                                       const std::vector<int>& points);
 
+// A node whose element star fell into pieces that touch only at the node (cracks on several
+// sides of it) is split into one node per piece (logged with a zero normal): fragments are
+// never held together by a single node. Part of insert_cracks; public for tests.
+void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events);
+
 } // namespace fracdem
