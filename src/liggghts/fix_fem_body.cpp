@@ -1018,12 +1018,15 @@ int FixFemBody::fragments() const
 
 void FixFemBody::fracture()
 {
-  fracdem::FailureMap map;
-  fracdem::build_failure_map(body_, map);
+  // An intact body (no damaged point in the last force evaluation; the element work of a
+  // breaking body is done on every rank, so all see the same count) has nothing to check.
+  if (body_.damaged_points() == 0) return;
+  fracdem::FailureMap& map = failure_map_; // kept between checks: no allocation per check
+  if (fracdem::build_failure_map(body_, map) == 0) return;
   const std::vector<int> points = fracdem::crack_points(map);
   std::vector<fracdem::SplitEvent> events;
   if (!points.empty()) events = fracdem::insert_cracks(body_, map, points);
-  const int eroded = erode_collapsed();
+  const int eroded = erode_collapsed(map.element_measure);
   if (events.empty() && eroded == 0) return;
   // Replicas must stay identical: a rank that split differently stops the run at once.
   int counts[2] = {body_.num_nodes(), -body_.num_nodes()};
@@ -1049,14 +1052,12 @@ void FixFemBody::fracture()
 
 // A failed element (no tension left) that has been squeezed into a sliver would collapse the
 // stable time step of the whole body: it is eroded (logged; its nodes keep their mass).
-int FixFemBody::erode_collapsed()
+int FixFemBody::erode_collapsed(const std::vector<double>& failure)
 {
   int eroded = 0;
   const fracdem::Mesh& mesh = body_.mesh();
-  for (int e = 0; e < mesh.num_elems(); ++e) {
-    if (!mesh.active[e]) continue;
-    double n[3];
-    if (body_.element_failure(e, n) < 1.0 || body_.element_time_step(e) >= update->dt) continue;
+  for (int e = 0; e < static_cast<int>(failure.size()); ++e) {
+    if (!mesh.active[e] || failure[e] < 1.0 || body_.element_time_step(e) >= update->dt) continue;
     body_.erode(e);
     ++eroded;
     if (comm->me != 0) continue;

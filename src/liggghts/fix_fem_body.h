@@ -108,7 +108,8 @@ private:
   void log_fragments();
   int last_fragments_ = 1;
   void erode_inverted(int e);
-  int erode_collapsed();
+  int erode_collapsed(const std::vector<double>& failure);
+  fracdem::FailureMap failure_map_;
   int eroded_ = 0;
   int fragments() const;
 

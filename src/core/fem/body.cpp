@@ -181,7 +181,7 @@ double Body::add_internal_forces(int* first_inverted)
 {
   if (rigid_) return 0.0;
   return space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
-                                    first_inverted, state_.data());
+                                    first_inverted, state_.data(), &damaged_points_);
 }
 
 double Body::element_failure(int e, double normal[3]) const
@@ -199,6 +199,28 @@ double Body::element_failure(int e, double normal[3]) const
     }
   }
   return worst;
+}
+
+int Body::element_failures(std::vector<double>& measure, std::vector<double>& normal) const
+{
+  const int ne = mesh_.num_elems();
+  measure.resize(ne);
+  normal.resize(3 * ne);
+  const int per = material_model_info(material_.model).state_per_point;
+  int damaged_count = 0;
+  for (int e = 0; e < ne; ++e) {
+    bool damaged = false;
+    if (per > 0 && mesh_.active[e])
+      for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q)
+        damaged |= point_damaged(material_, &state_[space_.state_offset(e) + q * per]);
+    if (damaged) {
+      measure[e] = element_failure(e, &normal[3 * e]);
+      ++damaged_count;
+    } else {
+      measure[e] = 0.0;
+    }
+  }
+  return damaged_count;
 }
 
 double Body::dissipated_energy() const

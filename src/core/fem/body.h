@@ -120,8 +120,13 @@ public:
   // Failure measure of element e (largest of its points: 0 intact .. 1 carries no more
   // tension) and the crack normal of that point.
   double element_failure(int e, double normal[3]) const;
+  // The same for every element at once (normal: 3 per element, set only where measure > 0);
+  // undamaged elements cost one comparison per point. Returns the number of damaged elements.
+  int element_failures(std::vector<double>& measure, std::vector<double>& normal) const;
   // Energy dissipated by the material (cracking) in the whole body so far.
   double dissipated_energy() const;
+  // Integration points with any damage at the last force evaluation (of this rank's elements).
+  int damaged_points() const { return damaged_points_; }
   // Strain energy per element now (0 for eroded ones), without advancing any history.
   void element_energies(std::vector<double>& energy) const;
 
@@ -162,6 +167,7 @@ private:
   std::vector<int> parent_;
   std::vector<double> state_; // per integration point, see FeSpace::state_offset
   NodeStars stars_;           // active elements around each node
+  int damaged_points_ = 0;
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
   double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0, boundary_work_ = 0;

@@ -79,6 +79,7 @@ inline void polar_rotation(const double F[9], double R[9])
 struct ElasticLaw {
   double lam, mu;
   bool plane_stress; // sigma_zz = 0 (lam is then the plane-stress reduced constant)
+  int damaged = 0;   // never: elasticity does not fail
   void bind(int, const std::array<int, 4>&) {}
   double operator()(const double e[6], double trace, int, double s[6]) const
   {
@@ -112,10 +113,13 @@ struct RankineLaw {
         elem_X[3 * a + i] = X[3 * c[a] + i];
     elem_state = state + state_offset[e];
   }
+  int damaged = 0; // points with damage > 0 seen (fracture checks skip an intact body)
   double operator()(const double e[6], double, int q, double s[6])
   {
-    return 2.0 *
-           rankine_stress(params, mode, e, elem_X, nnodes, elem_state + q * kRankineStateSize, s);
+    double* st = elem_state + q * kRankineStateSize;
+    const double w2 = 2.0 * rankine_stress(params, mode, e, elem_X, nnodes, st, s);
+    damaged += rankine_damage(st) > 0;
+    return w2;
   }
 };
 
@@ -715,7 +719,7 @@ auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_o
 
 double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
                                     double* f, double* elem_energy, int* first_inverted,
-                                    double* state) const
+                                    double* state, int* damaged_points) const
 {
   e_begin = std::max(e_begin, 0);
   e_end = std::min(e_end, mesh.num_elems());
@@ -724,11 +728,13 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   return with_law(mat_, dim_, mesh, state_offset_.data(), state, [&](auto& law) {
-    if (corot)
-      return forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar, f,
-                               elem_energy, first_inverted);
-    return forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar, f,
-                              elem_energy, first_inverted);
+    const double energy =
+        corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
+                                  f, elem_energy, first_inverted)
+              : forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
+                                   f, elem_energy, first_inverted);
+    if (damaged_points) *damaged_points = law.damaged;
+    return energy;
   });
 }
 

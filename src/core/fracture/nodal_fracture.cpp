@@ -6,26 +6,28 @@
 namespace fracdem
 {
 
-void build_failure_map(const Body& body, FailureMap& map)
+int build_failure_map(const Body& body, FailureMap& map)
 {
   const Mesh& mesh = body.mesh();
   const int nn = mesh.num_nodes();
-  map.measure.assign(nn, 0.0);
-  map.direction.assign(3 * nn, 0.0);
+  map.damaged = body.element_failures(map.element_measure, map.element_normal);
+  map.measure.assign(map.damaged > 0 ? nn : 0, 0.0);
+  map.direction.assign(map.damaged > 0 ? 3 * nn : 0, 0.0);
+  if (map.damaged == 0) return 0; // an intact body: nothing else to look at
   for (int e = 0; e < mesh.num_elems(); ++e) {
-    if (!mesh.active[e]) continue;
-    double n[3];
-    const double m = body.element_failure(e, n);
+    const double m = map.element_measure[e];
     if (m <= 0) continue;
     // Strictly larger wins: the lowest element index among equals, on every rank alike.
     for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a) {
       const int v = mesh.conn[e][a];
       if (m > map.measure[v]) {
         map.measure[v] = m;
-        std::copy(n, n + 3, &map.direction[3 * v]);
+        std::copy(&map.element_normal[3 * e], &map.element_normal[3 * e] + 3,
+                  &map.direction[3 * v]);
       }
     }
   }
+  return map.damaged;
 }
 
 std::vector<int> crack_points(const FailureMap& map)

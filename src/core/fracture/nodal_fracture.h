@@ -15,8 +15,11 @@ namespace fracdem
 struct FailureMap {
   std::vector<double> measure;   // per node
   std::vector<double> direction; // 3 per node, unit (zeros where nothing failed)
+  std::vector<double> element_measure, element_normal; // per element (normal: 3 per element)
+  int damaged = 0;                                     // elements with any damage
 };
-void build_failure_map(const Body& body, FailureMap& map);
+// Returns the number of damaged elements; the node arrays are filled only when there are any.
+int build_failure_map(const Body& body, FailureMap& map);
 
 // Stage (ii): nodes whose measure reached 1 (crack points), ascending.
 std::vector<int> crack_points(const FailureMap& map);
