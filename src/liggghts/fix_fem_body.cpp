@@ -401,6 +401,10 @@ void FixFemBody::parse_fracture(int narg, char** arg, int& iarg)
       fracture_every_ = force->inumeric(FLERR, arg[iarg + 1]);
       if (fracture_every_ < 1)
         error->all(FLERR, "fix fem/body: keyword 'fracture nodal every' expects N >= 1");
+    } else if (!strcmp(arg[iarg], "erode_cracked")) {
+      if (strcmp(arg[iarg + 1], "yes") && strcmp(arg[iarg + 1], "no"))
+        error->all(FLERR, "fix fem/body: keyword 'fracture nodal erode_cracked' expects yes or no");
+      erode_cracked_ = !strcmp(arg[iarg + 1], "yes");
     } else if (!strcmp(arg[iarg], "min_size")) {
       error->all(FLERR, "fix fem/body: keyword 'fracture nodal min_size': cracks through "
                         "elements are not available yet; cracks follow element boundaries "
@@ -1057,15 +1061,16 @@ int FixFemBody::erode_collapsed(const std::vector<double>& failure)
   int eroded = 0;
   const fracdem::Mesh& mesh = body_.mesh();
   for (int e = 0; e < static_cast<int>(failure.size()); ++e) {
-    if (!mesh.active[e] || failure[e] < 1.0 || body_.element_time_step(e) >= update->dt) continue;
+    if (!mesh.active[e] || failure[e] < 1.0) continue;
+    if (!erode_cracked_ && body_.element_time_step(e) >= update->dt) continue;
     body_.erode(e);
     ++eroded;
     if (comm->me != 0) continue;
     char line[256];
     snprintf(line, sizeof(line),
-             "fix fem/body %s: step " BIGINT_FORMAT
-             ": failed element %d squeezed below the host time step, eroded\n",
-             id, update->ntimestep, e);
+             "fix fem/body %s: step " BIGINT_FORMAT ": failed element %d %s, eroded\n", id,
+             update->ntimestep, e,
+             erode_cracked_ ? "carries no more tension" : "squeezed below the host time step");
     if (logfile) fputs(line, logfile);
     if (screen) fputs(line, screen);
   }

@@ -110,6 +110,7 @@ private:
   void erode_inverted(int e);
   int erode_collapsed(const std::vector<double>& failure);
   fracdem::FailureMap failure_map_;
+  bool erode_cracked_ = false; // fracture nodal erode_cracked yes: failed elements leave
   int eroded_ = 0;
   int fragments() const;
 

@@ -46,6 +46,8 @@ cases = [
      "cracks through elements are not available yet"),
     ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 material rankine strength 3e6 fracture_energy 100 fracture nodal every 0",
      "'fracture nodal every' expects N >= 1"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 material rankine strength 3e6 fracture_energy 100 fracture nodal erode_cracked maybe",
+     "'fracture nodal erode_cracked' expects yes or no"),
     ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 material rankine strength 3e6 fracture_energy 100 fracture tensile",
      "keyword 'fracture' expects 'nodal"),
     ("fix b all fem/body file block.msh type 2 rigid yes material rankine strength 3e6 fracture_energy 100",
