@@ -972,23 +972,13 @@ void FixFemBody::erode_inverted(int e)
 // When the body has come apart into more pieces: their count and masses, largest first.
 void FixFemBody::log_fragments()
 {
-  std::vector<int> comp;
-  const int count = fracdem::element_components(body_.mesh(), comp);
+  const std::vector<double> mass = fracdem::fragment_masses(body_);
+  const int count = static_cast<int>(mass.size());
   if (count == last_fragments_ || comm->me != 0) {
     last_fragments_ = count;
     return;
   }
   last_fragments_ = count;
-  const fracdem::Mesh& mesh = body_.mesh();
-  std::vector<int> node_comp(body_.num_nodes(), -1);
-  for (int e = 0; e < mesh.num_elems(); ++e)
-    if (comp[e] >= 0)
-      for (int a = 0; a < fracdem::nodes_per_elem(mesh.etype[e]); ++a)
-        node_comp[mesh.conn[e][a]] = comp[e];
-  std::vector<double> mass(count, 0.0);
-  for (int n = 0; n < body_.num_nodes(); ++n)
-    if (node_comp[n] >= 0) mass[node_comp[n]] += body_.masses()[n];
-  std::sort(mass.rbegin(), mass.rend());
   std::string line = "fix fem/body " + std::string(id) + ": step " +
                      std::to_string(update->ntimestep) + ": " + std::to_string(count) +
                      " fragments, masses";

@@ -9,6 +9,7 @@
 
 #include "contact/particle_facet.h"
 #include "fem/body.h"
+#include "fracture/nodal_fracture.h"
 #include "io/mesh_generators.h"
 
 using namespace fracdem;
@@ -323,4 +324,20 @@ TEST(ParticleFacet, HistorySlotsFindCreateAndReportExhaustion)
   EXPECT_FALSE(full);
   EXPECT_EQ(history_slot(row.data(), 2, 7, true, &full), nullptr);
   EXPECT_TRUE(full);
+}
+
+TEST(NodalFracture, FragmentMassesSumToTheBodyAndSplitAlongACutColumn)
+{
+  // A 4 x 2 quad strip cut through every node of the column x = 0.5 (normal x) comes apart in
+  // two pieces of equal mass, and the masses add up to the body's (round-off).
+  Body b;
+  b.build(make_rect_mesh(4, 2, 1.0, 0.5, {0, 0}, ElemType::Quad4), steel(), false);
+  const double total = std::accumulate(b.masses().begin(), b.masses().end(), 0.0);
+  const double normal[3] = {1, 0, 0};
+  for (int j = 0; j <= 2; ++j)
+    b.split_node(b.plan_split(2 + 5 * j, normal));
+  const std::vector<double> m = fragment_masses(b);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_NEAR(m[0], 0.5 * total, 1e-12 * total);
+  EXPECT_NEAR(m[0] + m[1], total, 1e-12 * total);
 }

@@ -128,4 +128,21 @@ void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
   }
 }
 
+std::vector<double> fragment_masses(const Body& body)
+{
+  const Mesh& mesh = body.mesh();
+  std::vector<int> comp;
+  const int count = element_components(mesh, comp);
+  std::vector<int> node_comp(body.num_nodes(), -1);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (comp[e] >= 0)
+      for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+        node_comp[mesh.conn[e][a]] = comp[e];
+  std::vector<double> mass(count, 0.0);
+  for (int n = 0; n < body.num_nodes(); ++n)
+    if (node_comp[n] >= 0) mass[node_comp[n]] += body.masses()[n];
+  std::sort(mass.rbegin(), mass.rend());
+  return mass;
+}
+
 } // namespace fracdem

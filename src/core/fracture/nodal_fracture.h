@@ -47,4 +47,8 @@ std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
 // never held together by a single node. Part of insert_cracks; public for tests.
 void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events);
 
+// Mass of every fragment (connected piece of active elements; a node's lumped mass counts with the
+// piece of its elements), largest first.
+std::vector<double> fragment_masses(const Body& body);
+
 } // namespace fracdem
