@@ -775,7 +775,7 @@ void FixFemBody::compute_forces()
   }
   // Contact between the body's pieces and with other bodies: taken once, on rank 0, into the
   // contact forces that the ranks sum.
-  if (contact_bodies_ && comm->me == 0) surface_contacts_ = body_contacts();
+  if (contact_bodies_ && comm->me == 0) body_contacts();
   const fracdem::ParticleFacetResult res =
       contact_.evaluate(particle_arrays(), body_.mesh().X.data(), body_.positions().data(),
                         body_.velocities().data(), update->dt, body_.contact_forces());
@@ -955,9 +955,8 @@ int FixFemBody::body_contacts()
 
 void FixFemBody::erode_inverted(int e)
 {
-  body_.erode(e);
+  body_.erode({e});
   rebuild_surfaces();
-  ++eroded_;
   if (comm->me == 0) {
     char line[256];
     snprintf(line, sizeof(line),
@@ -1019,7 +1018,7 @@ void FixFemBody::fracture()
   if (fracdem::build_failure_map(body_, map) == 0) return;
   const std::vector<int> points = fracdem::crack_points(map);
   std::vector<fracdem::SplitEvent> events;
-  if (!points.empty()) events = fracdem::insert_cracks(body_, map, points);
+  if (!points.empty()) events = fracdem::insert_cracks(body_, points);
   const int eroded = erode_collapsed(map.element_measure);
   if (events.empty() && eroded == 0) return;
   // Replicas must stay identical: a rank that split differently stops the run at once.
@@ -1048,13 +1047,12 @@ void FixFemBody::fracture()
 // stable time step of the whole body: it is eroded (logged; its nodes keep their mass).
 int FixFemBody::erode_collapsed(const std::vector<double>& failure)
 {
-  int eroded = 0;
+  std::vector<int> eroded;
   const fracdem::Mesh& mesh = body_.mesh();
   for (int e = 0; e < static_cast<int>(failure.size()); ++e) {
     if (!mesh.active[e] || failure[e] < 1.0) continue;
     if (!erode_cracked_ && body_.element_time_step(e) >= update->dt) continue;
-    body_.erode(e);
-    ++eroded;
+    eroded.push_back(e);
     if (comm->me != 0) continue;
     char line[256];
     snprintf(line, sizeof(line),
@@ -1064,8 +1062,8 @@ int FixFemBody::erode_collapsed(const std::vector<double>& failure)
     if (logfile) fputs(line, logfile);
     if (screen) fputs(line, screen);
   }
-  eroded_ += eroded;
-  return eroded;
+  body_.erode(eroded);
+  return static_cast<int>(eroded.size());
 }
 
 void FixFemBody::log_splits(const std::vector<fracdem::SplitEvent>& events)

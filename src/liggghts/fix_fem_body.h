@@ -111,7 +111,6 @@ private:
   int erode_collapsed(const std::vector<double>& failure);
   fracdem::FailureMap failure_map_;
   bool erode_cracked_ = false; // fracture nodal erode_cracked yes: failed elements leave
-  int eroded_ = 0;
   int fragments() const;
 
   // ---- arguments ----
@@ -158,7 +157,6 @@ private:
   int body_contacts();
   int contact_bodies_ = -1; // -1: default (no)
   double contact_penalty_ = 0.1;
-  int surface_contacts_ = 0;
   void rebuild_surfaces();
   double gravity_[3] = {0, 0, 0};
   int ncontacts_ = 0;

@@ -169,7 +169,7 @@ TEST(Body, RestartStateRestoresSplitTopologyExactly)
   a.advance_time(0.25);
   const double normal[3] = {1, 0, 0};
   const int copy = a.split_node(a.plan_split(6, normal));
-  a.erode(2);
+  a.erode({2});
   std::vector<double> buf;
   a.pack_state(buf);
   // A fresh body from the same mesh file, then the record.

@@ -52,21 +52,8 @@ void ParticleFacetContact::rebuild_surface(const Mesh& mesh)
   // Surface area per node in the reference configuration (a third of each triangle, half of
   // each 2D edge): the weights of a pressure spread over the nodes.
   node_area_.assign(nnodes_, 0.0);
-  const double* X = mesh.X.data();
   for (const Facet& fc : facets_) {
-    const double* a = &X[3 * fc.n[0]];
-    const double* b = &X[3 * fc.n[1]];
-    double size;
-    if (fc.nn == 3) {
-      const double* c = &X[3 * fc.n[2]];
-      const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-      const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                            e1[0] * e2[1] - e1[1] * e2[0]};
-      size = 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    } else {
-      size = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
-    }
+    const double size = facet_measure(mesh.X.data(), fc);
     for (int j = 0; j < fc.nn; ++j)
       node_area_[fc.n[j]] += size / fc.nn;
   }

@@ -12,14 +12,11 @@ namespace
 {
 constexpr double kBaryTol = 0.01;
 
-double facet_size(const double* a, const double* b, const double* c)
+// Length of an edge facet, square root of a triangle facet's area.
+double facet_size(const double* x, const Facet& fc)
 {
-  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  if (!c) return std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                       e1[0] * e2[1] - e1[1] * e2[0]};
-  return std::sqrt(0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
+  const double m = facet_measure(x, fc);
+  return fc.nn == 3 ? std::sqrt(m) : m;
 }
 } // namespace
 
@@ -34,8 +31,7 @@ void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
     const Facet& fc = facets[k];
     for (int j = 0; j < fc.nn; ++j)
       nodes.push_back(fc.n[j]);
-    const double s =
-        facet_size(&X[3 * fc.n[0]], &X[3 * fc.n[1]], fc.nn == 3 ? &X[3 * fc.n[2]] : nullptr);
+    const double s = facet_size(X, fc);
     // Altitude of the owning element over the facet: 2A/L (tri3), A/L (quad4), 3V/area (tet4).
     const double measure = std::fabs(signed_measure(mesh, fc.elem));
     const ElemType t = mesh.etype[fc.elem];
@@ -126,7 +122,7 @@ double SurfaceContact::stiffness(const double* q, const Facet& fc, const double*
 {
   double t = opt_.thickness;
   if (fc.nn == 3)
-    t = facet_size(&x[3 * fc.n[0]], &x[3 * fc.n[1]], &x[3 * fc.n[2]]);
+    t = facet_size(x, fc);
   else if (opt_.axisymmetric)
     t = 2 * M_PI * std::max(q[0], 0.0);
   return opt_.penalty_scale * opt_.youngs * t;

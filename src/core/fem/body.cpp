@@ -62,6 +62,12 @@ void Body::set_element_range(int begin, int end)
 
 /* ---------------------------------------------------------------------- */
 
+void Body::open_reaction_group(int group)
+{
+  if (group >= 0 && 3 * (group + 1) > static_cast<int>(reactions_.size()))
+    reactions_.resize(3 * (group + 1), 0.0);
+}
+
 void Body::set_fixed(const std::vector<int>& nodes, int mask, int group)
 {
   for (int n : nodes) {
@@ -69,8 +75,7 @@ void Body::set_fixed(const std::vector<int>& nodes, int mask, int group)
     bc_[n] = held_[n] == 7 ? NodeBc::Fixed : NodeBc::Partial;
     bc_group_[n] = group;
   }
-  if (group >= 0 && 3 * (group + 1) > static_cast<int>(reactions_.size()))
-    reactions_.resize(3 * (group + 1), 0.0);
+  open_reaction_group(group);
 }
 
 void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v[3], double ramp,
@@ -84,8 +89,7 @@ void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v
     for (int d = 0; d < 3; ++d)
       v_prescribed_[3 * n + d] = v[d];
   }
-  if (group >= 0 && 3 * (group + 1) > static_cast<int>(reactions_.size()))
-    reactions_.resize(3 * (group + 1), 0.0);
+  open_reaction_group(group);
 }
 
 void Body::set_velocity(const std::vector<int>& nodes, const double v[3])
@@ -370,10 +374,11 @@ int Body::split_node(const SplitPlan& plan)
   return copy;
 }
 
-void Body::erode(int e)
+void Body::erode(const std::vector<int>& elems)
 {
-  mesh_.active[e] = 0;
-  stars_.build(mesh_);
+  for (int e : elems)
+    mesh_.active[e] = 0;
+  if (!elems.empty()) stars_.build(mesh_); // once per batch: a rebuild is a pass over the mesh
 }
 
 /* ----------------------------------------------------------------------

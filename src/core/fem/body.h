@@ -77,8 +77,8 @@ public:
   // Stable step of element e alone in the current configuration (1e300 if eroded).
   double element_time_step(int e) const { return space_.element_time_step(mesh_, x_.data(), e); }
   const NodeStars& stars() const { return stars_; }
-  // Removes element e from the body (its nodes keep their masses and go on as point masses).
-  void erode(int e);
+  // Removes elements from the body (their nodes keep their masses and go on as point masses).
+  void erode(const std::vector<int>& elems);
 
   // ---- state ----
   const Mesh& mesh() const { return mesh_; }
@@ -149,6 +149,7 @@ private:
     return ramp_[n] > 0 && t < ramp_[n] ? 1.0 / ramp_[n] : 0.0;
   }
   void add_reactions(double dt, bool count_work);
+  void open_reaction_group(int group); // a reaction account for group (-1: none)
   void derive_masses();
 
   Mesh mesh_;

@@ -102,6 +102,19 @@ std::vector<Facet> boundary_facets(const Mesh& mesh)
   return out;
 }
 
+double facet_measure(const double* x, const Facet& fc)
+{
+  const double* a = &x[3 * fc.n[0]];
+  const double* b = &x[3 * fc.n[1]];
+  if (fc.nn == 2) return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
+  const double* c = &x[3 * fc.n[2]];
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
+  return 0.5 * std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+}
+
 double element_diameter(const Mesh& m, int e)
 {
   const int n = nodes_per_elem(m.etype[e]);

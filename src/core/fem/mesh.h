@@ -88,6 +88,10 @@ double tet_volume6(const double* X, const std::array<int, 4>& c);
 // area of a triangle / quad in the x-y plane (positive when counter-clockwise).
 double signed_measure(const Mesh& m, int e);
 
+// Area of a triangle facet, or length of an edge facet (2D facets lie in z = 0), with node
+// positions x (3 per node).
+double facet_measure(const double* x, const Facet& fc);
+
 // Largest distance between two nodes of element e in the reference configuration: an upper
 // bound of the element's width across any direction (crack-band checks).
 double element_diameter(const Mesh& m, int e);

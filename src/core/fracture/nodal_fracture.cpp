@@ -78,34 +78,9 @@ bool band_already_cracked(const Body& body, const std::vector<char>& on_crack, i
   }
   return false;
 }
-} // namespace
-
-std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
-                                      const std::vector<int>& points)
-{
-  (void)map;
-  // Nodes on a physical crack: split nodes and their copies.
-  std::vector<char> on_crack(body.num_nodes(), 0);
-  for (int w = 0; w < body.num_nodes(); ++w)
-    if (body.parents()[w] >= 0) on_crack[w] = on_crack[body.parents()[w]] = 1;
-  std::vector<SplitEvent> events;
-  for (int v : points) {
-    // Re-checked here: a split earlier in this pass may have opened this band already.
-    double n[3] = {0, 0, 0};
-    const int e = driving_element(body, v, n);
-    if (e < 0 || band_already_cracked(body, on_crack, e, v, n)) continue;
-    const SplitPlan plan = body.plan_split(v, n);
-    if (!plan.splittable()) continue;
-    SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};
-    ev.copy = body.split_node(plan);
-    on_crack[v] = 1;
-    on_crack.push_back(1);
-    events.push_back(ev);
-  }
-  separate_pinched_nodes(body, events);
-  return events;
-}
-
+// A node whose element star fell into pieces that touch only at the node (cracks on several
+// sides of it) is split into one node per piece (logged with a zero normal): fragments are
+// never held together by a single node.
 void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
 {
   // Only nodes on a crack can have been pinched (their stars changed); copies are appended to
@@ -126,6 +101,32 @@ void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
     todo.push_back(ev.copy);
     events.push_back(ev);
   }
+}
+
+} // namespace
+
+std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points)
+{
+  // Nodes on a physical crack: split nodes and their copies.
+  std::vector<char> on_crack(body.num_nodes(), 0);
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (body.parents()[w] >= 0) on_crack[w] = on_crack[body.parents()[w]] = 1;
+  std::vector<SplitEvent> events;
+  for (int v : points) {
+    // Re-checked here: a split earlier in this pass may have opened this band already.
+    double n[3] = {0, 0, 0};
+    const int e = driving_element(body, v, n);
+    if (e < 0 || band_already_cracked(body, on_crack, e, v, n)) continue;
+    const SplitPlan plan = body.plan_split(v, n);
+    if (!plan.splittable()) continue;
+    SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};
+    ev.copy = body.split_node(plan);
+    on_crack[v] = 1;
+    on_crack.push_back(1);
+    events.push_back(ev);
+  }
+  separate_pinched_nodes(body, events);
+  return events;
 }
 
 std::vector<double> fragment_masses(const Body& body)

@@ -37,15 +37,10 @@ struct SplitEvent {
 // cut, so no sliver is made and the stable time step of the elements is unchanged). Points whose
 // star lies on one side of the plane (already split, or a surface node with a tangent plane) are
 // left alone, and so are points whose failed element already borders a crack on its far side (one
-// crack per band, no sliver fragments). Every replica that calls this on the same body and map
-// makes the same splits.
-std::vector<SplitEvent> insert_cracks(Body& body, const FailureMap& map,
-                                      const std::vector<int>& points);
-
-// A node whose element star fell into pieces that touch only at the node (cracks on several
-// sides of it) is split into one node per piece (logged with a zero normal): fragments are
-// never held together by a single node. Part of insert_cracks; public for tests.
-void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events);
+// crack per band, no sliver fragments). Then a node whose star fell into pieces that touch only
+// at it is split into one node per piece (event with a zero normal). Every replica that calls
+// this on the same body and points makes the same splits.
+std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points);
 
 // Mass of every fragment (connected piece of active elements; a node's lumped mass counts with the
 // piece of its elements), largest first.
