@@ -751,6 +751,10 @@ fracdem::ParticleArrays FixFemBody::particle_arrays() const
   p.type = atom->type;
   p.mask = atom->mask;
   p.groupbit = groupbit;
+  // In 2D the z period is the slab thickness, never a direction of contact.
+  const int* periodic[3] = {&domain->xperiodic, &domain->yperiodic, &domain->zperiodic};
+  for (int d = 0; d < domain->dimension; ++d)
+    if (*periodic[d]) p.period[d] = domain->prd[d];
   p.history = history_;
   p.slots = nslots_;
   return p;
@@ -785,24 +789,27 @@ void FixFemBody::compute_forces()
     warned_slots_ = true;
   }
 
-  double scalars[3] = {local_energy, static_cast<double>(res.contacts),
+  // energy, contacts, unresolved contacts (summed); first inverted element + 1 (max)
+  double scalars[4] = {local_energy, static_cast<double>(res.contacts),
+                       res.unresolved_speed > 0 ? 1.0 : 0.0,
                        static_cast<double>(first_inverted >= 0 ? first_inverted + 1 : 0)};
   if (split_element_work_) {
     MPI_Allreduce(MPI_IN_PLACE, body_.forces_data(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
     MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, scalars, 2, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, &scalars[2], 1, MPI_DOUBLE, MPI_MAX, world);
+    MPI_Allreduce(MPI_IN_PLACE, scalars, 3, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(MPI_IN_PLACE, &scalars[3], 1, MPI_DOUBLE, MPI_MAX, world);
   } else if (comm->nprocs > 1) { // element work replicated: only the contact shares are summed
     MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, &scalars[1], 1, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(MPI_IN_PLACE, &scalars[1], 2, MPI_DOUBLE, MPI_SUM, world);
   }
   ncontacts_ = static_cast<int>(scalars[1]);
-  if (scalars[2] > 0) {
+  if (scalars[2] > 0 && !warned_unresolved_) warn_unresolved_contact(res);
+  if (scalars[3] > 0) {
     char msg[256];
     snprintf(msg, sizeof(msg),
              "fix fem/body %s: element %d inverted (det F <= 0) at step " BIGINT_FORMAT
              "; the time step is too large or the load too severe for this mesh",
-             id, static_cast<int>(scalars[2]) - 1, update->ntimestep);
+             id, static_cast<int>(scalars[3]) - 1, update->ntimestep);
     error->all(FLERR, msg);
   }
   if (!std::isfinite(scalars[0])) {
@@ -814,6 +821,23 @@ void FixFemBody::compute_forces()
     error->all(FLERR, msg);
   }
   body_.finish_forces(scalars[0], gravity_, update->dt, update->setupflag == 0);
+}
+
+// Once per run: a particle hits the body faster than the time step can follow (every rank
+// enters; the worst speed and the time step that resolves it come from all ranks).
+void FixFemBody::warn_unresolved_contact(const fracdem::ParticleFacetResult& res)
+{
+  warned_unresolved_ = true;
+  double speed = res.unresolved_speed, dt_ok = res.resolving_dt;
+  MPI_Allreduce(MPI_IN_PLACE, &speed, 1, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(MPI_IN_PLACE, &dt_ok, 1, MPI_DOUBLE, MPI_MIN, world);
+  char msg[400];
+  snprintf(msg, sizeof(msg),
+           "fix fem/body %s: at step " BIGINT_FORMAT " a particle approaches the surface at "
+           "%g m/s, more than %g %% of its Hertz penetration per time step; the contact is not "
+           "resolved in time and may gain or lose energy: timestep %g or smaller resolves it",
+           id, update->ntimestep, speed, 100 * fracdem::kMaxApproachPerStep, dt_ok);
+  if (comm->me == 0) error->warning(FLERR, msg);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -99,6 +99,7 @@ private:
   void check_time_step();
 
   // ---- per-step work ----
+  void warn_unresolved_contact(const fracdem::ParticleFacetResult& res);
   void compute_forces();
   fracdem::ParticleArrays particle_arrays() const;
   void write_energy_row();
@@ -164,6 +165,7 @@ private:
   bool initial_velocity_applied_ = false;
   bool restarted_state_ = false;
   bool warned_slots_ = false;
+  bool warned_unresolved_ = false; // the time-resolution warning is given once per run
 
   // ---- per-atom tangential history (rows of nslots_ records) ----
   int nslots_ = 8;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "balance/graph_partition.h"
+#include "contact/particle_facet.h"
 #include "fem/mesh.h"
 
 namespace fracdem_test
@@ -93,5 +94,37 @@ inline fracdem::balance::Graph grid_graph(int nx, int ny, std::vector<int64_t> v
   if (vertex_weight.empty()) vertex_weight.assign(int64_t(nx) * ny, 1);
   return fracdem::balance::build_graph(int64_t(nx) * ny, vertex_weight, pairs);
 }
+
+// One sphere (radius, position x, velocity v) as host particle arrays with 4 history slots.
+struct OneParticle {
+  double x[3], v[3] = {0, 0, 0}, omega[3] = {0, 0, 0}, f[3] = {0, 0, 0}, t[3] = {0, 0, 0};
+  double* px[1] = {x};
+  double* pv[1] = {v};
+  double* po[1] = {omega};
+  double* pf[1] = {f};
+  double* pt[1] = {t};
+  double radius, mass = 1.0;
+  int type = 1, mask = 1;
+  std::vector<double> hist = std::vector<double>(4 * fracdem::kHistorySlotDoubles, -1.0);
+  double* ph[1] = {hist.data()};
+  fracdem::ParticleArrays arrays()
+  {
+    fracdem::ParticleArrays p;
+    p.n = 1;
+    p.x = px;
+    p.v = pv;
+    p.omega = po;
+    p.f = pf;
+    p.torque = pt;
+    p.radius = &radius;
+    p.rmass = &mass;
+    p.type = &type;
+    p.mask = &mask;
+    p.groupbit = 1;
+    p.history = ph;
+    p.slots = 4;
+    return p;
+  }
+};
 
 } // namespace fracdem_test

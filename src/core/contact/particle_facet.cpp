@@ -58,20 +58,53 @@ void ParticleFacetContact::rebuild_surface(const Mesh& mesh)
       node_area_[fc.n[j]] += size / fc.nn;
   }
   indentation_disp_.assign(nnodes_, 0.0);
+  reference_normals(mesh);
   search_stale_ = true;
+}
+
+// Outward unit normal of every facet in the reference configuration (away from its element's
+// centroid): the surface region a facet belongs to, whatever the body's deformation.
+void ParticleFacetContact::reference_normals(const Mesh& mesh)
+{
+  facet_ref_normal_.assign(3 * facets_.size(), 0.0);
+  const double* X = mesh.X.data();
+  for (size_t k = 0; k < facets_.size(); ++k) {
+    const Facet& fc = facets_[k];
+    const double* a = &X[3 * fc.n[0]];
+    const double* b = &X[3 * fc.n[1]];
+    double nrm[3];
+    if (fc.nn == 3) {
+      const double* c = &X[3 * fc.n[2]];
+      const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+      const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+      nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+      nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    } else {
+      nrm[0] = b[1] - a[1];
+      nrm[1] = a[0] - b[0];
+      nrm[2] = 0;
+    }
+    const auto& conn = mesh.conn[fc.elem];
+    const int ne = nodes_per_elem(mesh.etype[fc.elem]);
+    double out = 0;
+    for (int d = 0; d < 3; ++d) {
+      double centroid = 0;
+      for (int j = 0; j < ne; ++j)
+        centroid += X[3 * conn[j] + d] / ne;
+      out += nrm[d] * (a[d] - centroid);
+    }
+    const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    const double sign = out < 0 ? -1.0 : 1.0;
+    for (int d = 0; d < 3; ++d)
+      facet_ref_normal_[3 * k + d] = l > 0 ? sign * nrm[d] / l : 0.0;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
 
 void ParticleFacetContact::rebuild_search(const ParticleArrays& p, const double* x, int nnodes)
 {
-  search_atoms_.clear();
-  search_sphere_.clear();
-  for (int i = 0; i < p.n; ++i) {
-    if (!(p.mask[i] & p.groupbit)) continue;
-    search_atoms_.push_back(i);
-    search_sphere_.insert(search_sphere_.end(), {p.x[i][0], p.x[i][1], p.x[i][2], p.radius[i]});
-  }
   std::vector<Aabb> boxes(facets_.size());
   for (size_t k = 0; k < facets_.size(); ++k) {
     Aabb& b = boxes[k];
@@ -87,6 +120,7 @@ void ParticleFacetContact::rebuild_search(const ParticleArrays& p, const double*
       }
     }
   }
+  search_spheres(p, boxes);
   const int ns = static_cast<int>(search_atoms_.size());
   search_->build(boxes, search_sphere_.data(), ns);
   sx_.resize(3 * ns);
@@ -98,6 +132,51 @@ void ParticleFacetContact::rebuild_search(const ParticleArrays& p, const double*
   ++nrebuilds_;
 }
 
+// The search spheres: every particle of the group, followed by those of its periodic images that
+// come within reach of the body (as stock mesh walls see a particle's image across a periodic
+// boundary). A particle's images follow it, so its spheres are consecutive.
+void ParticleFacetContact::search_spheres(const ParticleArrays& p, const std::vector<Aabb>& boxes)
+{
+  search_atoms_.clear();
+  search_sphere_.clear();
+  search_shift_.clear();
+  Aabb body;
+  for (int d = 0; d < 3; ++d) {
+    body.lo[d] = std::numeric_limits<double>::max();
+    body.hi[d] = -std::numeric_limits<double>::max();
+  }
+  for (const Aabb& b : boxes)
+    for (int d = 0; d < 3; ++d) {
+      body.lo[d] = std::min(body.lo[d], b.lo[d]);
+      body.hi[d] = std::max(body.hi[d], b.hi[d]);
+    }
+  const bool periodic = p.period[0] > 0 || p.period[1] > 0 || p.period[2] > 0;
+  for (int i = 0; i < p.n; ++i) {
+    if (!(p.mask[i] & p.groupbit)) continue;
+    search_atoms_.push_back(i);
+    search_sphere_.insert(search_sphere_.end(), {p.x[i][0], p.x[i][1], p.x[i][2], p.radius[i]});
+    search_shift_.insert(search_shift_.end(), {0.0, 0.0, 0.0});
+    if (!periodic) continue;
+    const double reach = p.radius[i] + search_->buffer();
+    for (int image = 0; image < 27; ++image) {
+      const int k[3] = {image % 3 - 1, image / 3 % 3 - 1, image / 9 - 1};
+      if (k[0] == 0 && k[1] == 0 && k[2] == 0) continue;
+      double shift[3], q[3];
+      bool near = true;
+      for (int d = 0; d < 3; ++d) {
+        if (k[d] != 0 && p.period[d] <= 0) near = false;
+        shift[d] = k[d] * p.period[d];
+        q[d] = p.x[i][d] + shift[d];
+        if (q[d] + reach < body.lo[d] || q[d] - reach > body.hi[d]) near = false;
+      }
+      if (!near) continue;
+      search_atoms_.push_back(i);
+      search_sphere_.insert(search_sphere_.end(), {q[0], q[1], q[2], p.radius[i]});
+      search_shift_.insert(search_shift_.end(), {shift[0], shift[1], shift[2]});
+    }
+  }
+}
+
 bool ParticleFacetContact::search_is_stale(const ParticleArrays& p, const double* x, int nnodes)
 {
   if (search_stale_) return true;
@@ -105,7 +184,7 @@ bool ParticleFacetContact::search_is_stale(const ParticleArrays& p, const double
   sx_.resize(3 * ns);
   for (int s = 0; s < ns; ++s)
     for (int d = 0; d < 3; ++d)
-      sx_[3 * s + d] = p.x[search_atoms_[s]][d];
+      sx_[3 * s + d] = p.x[search_atoms_[s]][d] + search_shift_[3 * s + d];
   return search_->needs_rebuild(x, nnodes, sx_.data(), ns);
 }
 
@@ -127,26 +206,40 @@ ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, cons
   size_t c = 0;
   while (c < cand.size()) {
     const int i = search_atoms_[cand[c].first];
-    gather_hits(p, i, x, c);
+    // The particle and its periodic images: each image's hits are resolved on their own, then
+    // all of them form the particle's contacts (one history row, one force).
+    hits_.clear();
+    hit_centres_.clear();
+    while (c < cand.size() && search_atoms_[cand[c].first] == i) {
+      const double* shift = &search_shift_[3 * cand[c].first];
+      const double q[3] = {p.x[i][0] + shift[0], p.x[i][1] + shift[1], p.x[i][2] + shift[2]};
+      gather_hits(p, i, q, x, c);
+      if (image_hits_.empty()) continue;
+      for (const FacetHit& h : resolve_sphere_hits(std::move(image_hits_), q, x, topology_)) {
+        hits_.push_back(h);
+        hit_centres_.insert(hit_centres_.end(), {q[0], q[1], q[2]});
+      }
+    }
     double* hist = p.history ? p.history[i] : nullptr;
     if (hits_.empty()) { // forget the history of contacts that ended
       if (hist) clear_history_row(hist, p.slots);
       continue;
     }
-    hits_ = resolve_sphere_hits(std::move(hits_), p.x[i], x, topology_);
     contacts_[i] += static_cast<int>(hits_.size());
     res.contacts += particle_contacts(p, i, X, x, v, dt, f_nodes, res);
   }
   return res;
 }
 
-// Closest points of particle i on its candidate facets (starting at cand[c]); keeps the
-// overlapping ones in hits_ and advances c past the particle's candidates.
-void ParticleFacetContact::gather_hits(const ParticleArrays& p, int i, const double* x, size_t& c)
+// Closest points of particle i, centred at q (itself or a periodic image), on the candidate
+// facets of one search sphere (starting at cand[c]); keeps the overlapping ones in image_hits_
+// and advances c past the sphere's candidates.
+void ParticleFacetContact::gather_hits(const ParticleArrays& p, int i, const double q[3],
+                                       const double* x, size_t& c)
 {
   const auto& cand = search_->candidates();
   const int s = cand[c].first;
-  hits_.clear();
+  image_hits_.clear();
   const double r = p.radius[i];
   for (; c < cand.size() && cand[c].first == s; ++c) {
     const Facet& fc = facets_[cand[c].second];
@@ -156,22 +249,23 @@ void ParticleFacetContact::gather_hits(const ParticleArrays& p, int i, const dou
     for (int j = 0; j < 3; ++j)
       h.nodes[j] = fc.n[j];
     if (fc.nn == 3)
-      h.cp = closest_point_triangle(p.x[i], &x[3 * fc.n[0]], &x[3 * fc.n[1]], &x[3 * fc.n[2]]);
+      h.cp = closest_point_triangle(q, &x[3 * fc.n[0]], &x[3 * fc.n[1]], &x[3 * fc.n[2]]);
     else
-      h.cp = closest_point_segment(p.x[i], &x[3 * fc.n[0]], &x[3 * fc.n[1]]);
-    if (h.cp.dist2 < r * r) hits_.push_back(h);
+      h.cp = closest_point_segment(q, &x[3 * fc.n[0]], &x[3 * fc.n[1]]);
+    if (h.cp.dist2 < r * r) image_hits_.push_back(h);
     ++checks_[i];
   }
 }
 
-// Unit normal (surface to centre q) and overlap of every kept hit.
-void ParticleFacetContact::hit_normals(const double q[3], double r, const double* x)
+// Unit normal (surface to the centre that made the hit) and overlap of every kept hit.
+void ParticleFacetContact::hit_normals(double r, const double* x)
 {
   const int nh = static_cast<int>(hits_.size());
   normals_.resize(3 * nh);
   overlaps_.resize(nh);
   for (int k = 0; k < nh; ++k) {
     const FacetHit& h = hits_[k];
+    const double* q = &hit_centres_[3 * k];
     const double dist = std::sqrt(h.cp.dist2);
     double* nk = &normals_[3 * k];
     if (dist > 1e-12 * r) {
@@ -209,12 +303,20 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
 {
   const double r = p.radius[i];
   const ContactMaterial& mat = materials_[p.type[i]];
-  hit_normals(p.x[i], r, x);
+  hit_normals(r, x);
   double* hist = p.history ? p.history[i] : nullptr;
   std::fill(touched_.begin(), touched_.end(), 0);
   int ncontacts = 0;
   const int nh = static_cast<int>(hits_.size());
-  for (const std::vector<int>& cluster : cluster_hits(normals_.data(), overlaps_.data(), nh)) {
+  // Hits are grouped by the reference normals of their facets: a sphere pressed deep into one
+  // surface region bends its facets by more than the clustering angle, yet it is one contact
+  // (grouping by the current normals counted it twice at high impact speeds).
+  region_normals_.resize(3 * nh);
+  for (int k = 0; k < nh; ++k)
+    for (int d = 0; d < 3; ++d)
+      region_normals_[3 * k + d] = facet_ref_normal_[3 * hits_[k].facet + d];
+  for (const std::vector<int>& cluster :
+       cluster_hits(region_normals_.data(), overlaps_.data(), nh)) {
     // The reaction is shared among the cluster's facets in proportion to overlap^1.5 (their
     // Hertz weights).
     const FacetHit& lead = hits_[cluster[0]];
@@ -249,6 +351,7 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
         touched_[(slot - hist) / kHistorySlotDoubles] = 1;
       }
     }
+    check_time_resolution(mat, in, res);
     // An unresolved contact (disc smaller than the mesh) stays a point contact.
     const bool spread = opt_.hertz_patch && hertz_contact_patch(lead, X, x, in, r);
     const ContactOutput out = particle_surface_force(mat, in, shear);
@@ -277,6 +380,22 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
     for (int k = 0; k < p.slots; ++k)
       if (!touched_[k]) hist[k * kHistorySlotDoubles] = hist[k * kHistorySlotDoubles + 1] = -1;
   return ncontacts;
+}
+
+// A Hertz contact that the time step cannot follow gains or loses energy: flag the approach
+// speeds at which one step covers more than kMaxApproachPerStep of the impact's penetration (the
+// law's own stiffness: the body's compliance only deepens the penetration, so this is safe).
+void ParticleFacetContact::check_time_resolution(const ContactMaterial& mat, const ContactInput& in,
+                                                 ParticleFacetResult& res) const
+{
+  if (mat.model != NormalModel::Hertz || mat.Yeff <= 0) return;
+  const double vn = -(in.v_rel[0] * in.n[0] + in.v_rel[1] * in.n[1] + in.v_rel[2] * in.n[2]);
+  if (vn <= 0) return;
+  const double reach =
+      kMaxApproachPerStep * hertz_impact(mat.Yeff, in.radius, in.mass, vn).max_overlap;
+  if (vn * in.dt <= reach) return;
+  res.unresolved_speed = std::max(res.unresolved_speed, vn);
+  res.resolving_dt = std::min(res.resolving_dt, reach / vn);
 }
 
 bool ParticleFacetContact::hertz_contact_patch(const FacetHit& lead, const double* X,
