@@ -10,6 +10,29 @@
 namespace fracdem
 {
 
+namespace
+{
+// Normal of facet `nodes` (nn = 3: triangle, right-hand rule; nn = 2: in-plane edge normal) at
+// node positions x, not normalised (its length is twice the area or the edge length).
+void facet_normal(const double* x, const int* nodes, int nn, double nrm[3])
+{
+  const double* a = &x[3 * nodes[0]];
+  const double* b = &x[3 * nodes[1]];
+  if (nn == 3) {
+    const double* c = &x[3 * nodes[2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  } else {
+    nrm[0] = b[1] - a[1];
+    nrm[1] = a[0] - b[0];
+    nrm[2] = 0;
+  }
+}
+} // namespace
+
 double* history_slot(double* row, int slots, std::uint64_t key, bool create, bool* exhausted)
 {
   const double hi = static_cast<double>(key >> 32), lo = static_cast<double>(key & 0xffffffffu);
@@ -71,20 +94,8 @@ void ParticleFacetContact::reference_normals(const Mesh& mesh)
   for (size_t k = 0; k < facets_.size(); ++k) {
     const Facet& fc = facets_[k];
     const double* a = &X[3 * fc.n[0]];
-    const double* b = &X[3 * fc.n[1]];
     double nrm[3];
-    if (fc.nn == 3) {
-      const double* c = &X[3 * fc.n[2]];
-      const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-      const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-      nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-      nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    } else {
-      nrm[0] = b[1] - a[1];
-      nrm[1] = a[0] - b[0];
-      nrm[2] = 0;
-    }
+    facet_normal(X, fc.n.data(), fc.nn, nrm);
     const auto& conn = mesh.conn[fc.elem];
     const int ne = nodes_per_elem(mesh.etype[fc.elem]);
     double out = 0;
@@ -272,21 +283,8 @@ void ParticleFacetContact::hit_normals(double r, const double* x)
       for (int d = 0; d < 3; ++d)
         nk[d] = (q[d] - h.cp.p[d]) / dist;
     } else { // centre on the surface: the facet normal
-      const double* a = &x[3 * h.nodes[0]];
-      const double* b = &x[3 * h.nodes[1]];
       double nrm[3];
-      if (h.nn == 3) {
-        const double* cc = &x[3 * h.nodes[2]];
-        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        double e2[3] = {cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]};
-        nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-      } else {
-        nrm[0] = b[1] - a[1];
-        nrm[1] = a[0] - b[0];
-        nrm[2] = 0;
-      }
+      facet_normal(x, h.nodes, h.nn, nrm);
       const double l = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
       for (int d = 0; d < 3; ++d)
         nk[d] = nrm[d] / l;
