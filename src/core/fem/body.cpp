@@ -122,6 +122,7 @@ void Body::move_rigid()
 
 void Body::half_kick_drift(double dt)
 {
+  last_dt_ = dt; // the strain rate of rate-dependent materials at the next force evaluation
   const int nn = num_nodes();
   const double half = 0.5 * dt;
   for (int n = 0; n < nn; ++n) {
@@ -185,7 +186,7 @@ double Body::add_internal_forces(int* first_inverted)
 {
   if (rigid_) return 0.0;
   return space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
-                                    first_inverted, state_.data(), &damaged_points_);
+                                    first_inverted, state_.data(), &damaged_points_, last_dt_);
 }
 
 double Body::element_failure(int e, double normal[3]) const

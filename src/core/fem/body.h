@@ -171,6 +171,7 @@ private:
   int damaged_points_ = 0;
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
+  double last_dt_ = 0; // step of the last half_kick_drift (material strain rates)
   double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0, boundary_work_ = 0;
   double contact_force_total_[3] = {0, 0, 0};
 };

@@ -123,6 +123,24 @@ struct RankineLaw {
   }
 };
 
+// J2 plasticity with a flow-stress family and an EOS (materials/plasticity.h); state: one block of
+// kPlasticStateSize doubles per integration point. dt: time since the previous force evaluation
+// (the strain rate of rate-dependent flow stresses; <= 0 reuses the stored rate).
+struct PlasticLaw {
+  J2Params params;
+  StressMode mode;
+  double dt;
+  const int* state_offset;
+  double* state;
+  double* elem_state = nullptr;
+  int damaged = 0; // plasticity does not fail (erosion by plastic strain is the body's business)
+  void bind(int e, const std::array<int, 4>&) { elem_state = state + state_offset[e]; }
+  double operator()(const double e[6], double, int q, double s[6])
+  {
+    return 2.0 * plastic_stress(params, mode, e, dt, elem_state + q * kPlasticStateSize, s);
+  }
+};
+
 // Tet4, one point. u: nodal displacements (12). Adds -grad E into fl (12, overwritten).
 // sig (optional): Cauchy stress, Voigt 6. Returns the strain energy.
 template <bool Corot, class Law>
@@ -588,6 +606,8 @@ double forces_loop(const Mesh& mesh, const double* geo, const int* offset, const
 
 void FeSpace::build(const Mesh& mesh, const Material& mat)
 {
+  const std::string bad = material_setup_error(mat, mesh.dim);
+  if (!bad.empty()) throw std::invalid_argument("fracdem: " + bad);
   mat_ = mat;
   dim_ = mesh.dim;
   axisym_ = mesh.dim == 2 && mat.plane == PlaneMode::Axisymmetric;
@@ -699,17 +719,27 @@ void FeSpace::lumped_masses(const Mesh& mesh, std::vector<double>& m) const
 
 /* ---------------------------------------------------------------------- */
 
-// Runs fn(law) with the body's constitutive law (the elastic one needs no state).
+StressMode stress_mode(const Material& mat, int dim)
+{
+  return dim == 3                               ? StressMode::Solid
+         : mat.plane == PlaneMode::PlaneStress  ? StressMode::PlaneStress
+         : mat.plane == PlaneMode::Axisymmetric ? StressMode::Axisymmetric
+                                                : StressMode::PlaneStrain;
+}
+
+// Runs fn(law) with the body's constitutive law (the elastic one needs no state). dt: see
+// PlasticLaw.
 template <class Fn>
 auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_offset,
-              double* state, Fn&& fn)
+              double* state, double dt, Fn&& fn)
 {
   if (mat.model == MaterialModel::Rankine) {
-    const StressMode mode = dim == 3                               ? StressMode::Solid
-                            : mat.plane == PlaneMode::PlaneStress  ? StressMode::PlaneStress
-                            : mat.plane == PlaneMode::Axisymmetric ? StressMode::Axisymmetric
-                                                                   : StressMode::PlaneStrain;
-    RankineLaw law{mat.rankine(), mode, mesh.X.data(), state_offset, state, {}, 0, nullptr};
+    RankineLaw law{mat.rankine(), stress_mode(mat, dim), mesh.X.data(), state_offset, state, {}, 0,
+                   nullptr};
+    return fn(law);
+  }
+  if (mat.plastic_model()) {
+    PlasticLaw law{mat.plasticity(), stress_mode(mat, dim), dt, state_offset, state};
     return fn(law);
   }
   ElasticLaw law{mat.in_plane_lambda(dim), mat.mu(),
@@ -719,7 +749,7 @@ auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_o
 
 double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
                                     double* f, double* elem_energy, int* first_inverted,
-                                    double* state, int* damaged_points) const
+                                    double* state, int* damaged_points, double dt) const
 {
   e_begin = std::max(e_begin, 0);
   e_end = std::min(e_end, mesh.num_elems());
@@ -727,7 +757,7 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
     throw std::invalid_argument("FeSpace: this material needs its per-point state");
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
-  return with_law(mat_, dim_, mesh, state_offset_.data(), state, [&](auto& law) {
+  return with_law(mat_, dim_, mesh, state_offset_.data(), state, dt, [&](auto& law) {
     const double energy =
         corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
                                   f, elem_energy, first_inverted)
@@ -746,8 +776,7 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   for (int k = 0; k < 6; ++k)
     sigma[k] = 0;
   // Evaluated on a copy of the element's state: output never advances the material history.
-  double scratch[4 * kRankineStateSize];
-  static_assert(kRankineStateSize <= 32, "element state scratch");
+  double scratch[4 * kMaxStatePerPoint];
   const int ns = state_offset_[e + 1] - state_offset_[e];
   if (ns > 0) std::copy(state + state_offset_[e], state + state_offset_[e + 1], scratch);
   const int shift[1] = {0};
@@ -755,7 +784,7 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   const ElemType t = mesh.etype[e];
   double s[6] = {0, 0, 0, 0, 0, 0};
-  with_law(mat_, dim_, mesh, shift, scratch, [&](auto& law) {
+  with_law(mat_, dim_, mesh, shift, scratch, 0.0, [&](auto& law) {
     law.bind(0, mesh.conn[e]);
     double fl[12], detF;
     const double* g = &geo_[offset_[e]];

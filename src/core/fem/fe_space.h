@@ -30,7 +30,8 @@ class FeSpace
 public:
   // Precomputes shape-function gradients, integration weights and measures. Throws FeError on
   // inverted or degenerate elements, on elements of the wrong dimension, and for axisymmetric
-  // meshes with an element node at r = x < 0.
+  // meshes with an element node at r = x < 0; std::invalid_argument for a plastic material or
+  // EOS that material_setup_error refuses (e.g. plane stress).
   void build(const Mesh& mesh, const Material& mat);
 
   // Lumped nodal masses (one per node, inactive elements skipped): rho * volume (3D),
@@ -50,9 +51,11 @@ public:
   // state: the material's per-point history (state_size() doubles, element e's points from
   // state_offset(e)), advanced by this call; may be null for materials without state.
   // damaged_points (optional): the number of points with damage > 0 after the call.
+  // dt: time since the previous evaluation, for rate-dependent materials (0: none known, the
+  // material reuses the rate it stored; elastic and Rankine ignore it).
   double add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end, double* f,
                              double* elem_energy, int* first_inverted, double* state = nullptr,
-                             int* damaged_points = nullptr) const;
+                             int* damaged_points = nullptr, double dt = 0.0) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
   // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R

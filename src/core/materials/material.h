@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "materials/eos.h"
+#include "materials/plasticity.h"
 #include "materials/rankine.h"
 
 namespace fracdem
@@ -14,7 +16,7 @@ enum class Kinematics : std::uint8_t { SmallStrain, Corotational };
 // Only for 2D elements. Plane stress: sigma_zz = 0 (thin plates, Brazilian discs).
 enum class PlaneMode : std::uint8_t { PlaneStrain, Axisymmetric, PlaneStress };
 // Constitutive models of the material table (materials/material_table.h).
-enum class MaterialModel : std::uint8_t { Elastic, Rankine };
+enum class MaterialModel : std::uint8_t { Elastic, Rankine, J2, JohnsonCook, ZerilliArmstrong };
 
 struct Material {
   double E = 0, nu = 0, rho = 0;
@@ -25,7 +27,16 @@ struct Material {
   // Rankine rotating crack: tensile strength, fracture energy, softening law.
   double ft = 0, gf = 0;
   Softening softening = Softening::Linear;
+  // Plastic models (J2, JohnsonCook, ZerilliArmstrong): flow-stress constants and the equation
+  // of state of their pressure (materials/plasticity.h, materials/eos.h).
+  PlasticParams plastic;
+  EosParams eos;
 
+  bool plastic_model() const
+  {
+    return model == MaterialModel::J2 || model == MaterialModel::JohnsonCook ||
+           model == MaterialModel::ZerilliArmstrong;
+  }
   double lambda() const { return E * nu / ((1 + nu) * (1 - 2 * nu)); }
   double mu() const { return E / (2 * (1 + nu)); }
   // The first Lame constant that the in-plane stress sees: lambda, or the plane-stress reduced
@@ -46,6 +57,20 @@ struct Material {
     p.ft = ft;
     p.gf = gf;
     p.softening = softening;
+    return p;
+  }
+  J2Params plasticity() const
+  {
+    J2Params p;
+    p.E = E;
+    p.nu = nu;
+    p.rho = rho;
+    p.plastic = plastic;
+    // The table's model decides the flow-stress family, whatever plastic.model holds.
+    p.plastic.model = model == MaterialModel::JohnsonCook        ? YieldModel::JohnsonCook
+                      : model == MaterialModel::ZerilliArmstrong ? YieldModel::ZerilliArmstrong
+                                                                 : YieldModel::J2;
+    p.eos = eos;
     return p;
   }
 };
