@@ -2,11 +2,14 @@
 // errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "io/gmsh_reader.h"
 #include "io/mesh_generators.h"
@@ -560,4 +563,144 @@ TEST_F(IoGmsh, ErrorMissingFileAndSections)
   const std::string p3 =
       write_file("part.msh", replace_once(kTwoTets41, "$Entities", "$PartitionedEntities"));
   EXPECT_NE(read_error(p3).find("partitioned Gmsh meshes are not supported"), std::string::npos);
+}
+
+// ---- damaged files (cases from tests/integration/test_fuzz_inputs.py) -----
+
+TEST_F(IoGmsh, HugeHeaderCountIsAnErrorNotAnAllocation)
+{
+  // The count is not trusted for reserve(): 10^12 nodes must not end in std::bad_alloc (which
+  // read_error would not catch, failing this test) but where the records run out.
+  const std::string text = replace_once(kTwoTets22, "$Nodes\n6\n", "$Nodes\n1000000000000\n");
+  const std::string path = write_file("bad.msh", text);
+  EXPECT_EQ(read_error(path), path + ":" + std::to_string(line_of(text, "$EndNodes")) +
+                                  ": expected 1000000000000 nodes in $Nodes, got 6 before "
+                                  "'$EndNodes' (wrong count in the section header?)");
+  const std::string t41 = replace_once(kTwoTets41, "3 6 10 50", "3 4611686018427387904 10 50");
+  const std::string msg41 = read_error(write_file("bad41.msh", t41));
+  EXPECT_NE(msg41.find("$Nodes header announces 4611686018427387904 nodes, blocks hold 6"),
+            std::string::npos)
+      << msg41;
+}
+
+TEST_F(IoGmsh, ErrorSectionEndsBeforeItsCount)
+{
+  const std::string text = replace_once(kTwoTets22, "$Elements\n8\n", "$Elements\n9\n");
+  const std::string path = write_file("bad.msh", text);
+  EXPECT_EQ(read_error(path), path + ":" + std::to_string(line_of(text, "$EndElements")) +
+                                  ": expected 9 elements in $Elements, got 8 before "
+                                  "'$EndElements' (wrong count in the section header?)");
+  const std::string t2 = replace_once(kTwoTets22, "$PhysicalNames\n6\n", "$PhysicalNames\n7\n");
+  const std::string msg2 = read_error(write_file("bad2.msh", t2));
+  EXPECT_NE(msg2.find("expected 7 names in $PhysicalNames, got 6 before '$EndPhysicalNames'"),
+            std::string::npos)
+      << msg2;
+}
+
+TEST_F(IoGmsh, ErrorPhysicalTagOutOfRange)
+{
+  // A 64-bit tag was truncated to int (4294967297 -> 1, i.e. silently another group).
+  const std::string text =
+      replace_once(kTwoTets22, "5 4 2 7 1 10 20 30 40", "5 4 2 4294967297 1 10 20 30 40");
+  const std::string path = write_file("bad.msh", text);
+  EXPECT_EQ(read_error(path), path + ":" + std::to_string(line_of(text, "4294967297")) +
+                                  ": physical tag 4294967297 is out of range (at most "
+                                  "2147483647 in magnitude)");
+  // std::abs(INT_MIN) is undefined; the tag is refused before.
+  const std::string t2 = replace_once(kTwoTets22, "3 7 \"left\"", "3 -2147483648 \"left\"");
+  EXPECT_NE(read_error(write_file("bad2.msh", t2)).find("physical tag -2147483648 is out of range"),
+            std::string::npos);
+  const std::string t3 =
+      replace_once(kTwoTets41, "1 0 0 0 1 1 1 2 7 10 0", "1 0 0 0 1 1 1 2 99999999999 10 0");
+  EXPECT_NE(read_error(write_file("bad3.msh", t3)).find("physical tag 99999999999 is out of range"),
+            std::string::npos);
+}
+
+TEST_F(IoGmsh, ErrorBodyElementWithRepeatedNode)
+{
+  const std::string text =
+      replace_once(kTwoTets22, "5 4 2 7 1 10 20 30 40", "5 4 2 7 1 10 20 30 20");
+  const std::string path = write_file("bad.msh", text);
+  EXPECT_EQ(read_error(path), path + ":" + std::to_string(line_of(text, "5 4 2 7 1 10 20 30 20")) +
+                                  ": element of type 4 (tet4) lists node tag 20 more than once; "
+                                  "body elements need distinct nodes");
+  // 2D: a quad with a node twice would pass the FE checks as a triangle with a zero-length edge.
+  const std::string t2 = replace_once(kMixed2D22, "2 3 2 2 1 1 4 5 2", "2 3 2 2 1 1 4 4 2");
+  const std::string msg2 = read_error(write_file("bad2.msh", t2));
+  EXPECT_NE(msg2.find("element of type 3 (quad4) lists node tag 4 more than once"),
+            std::string::npos)
+      << msg2;
+  // Boundary elements may repeat nodes: meshgen writes single-node sets as [a, b, b] triangles.
+  const std::string ok = replace_once(kTwoTets22, "3 2 2 5 1 10 20 30", "3 2 2 5 1 10 20 20");
+  const Mesh m = read_gmsh(write_file("ok.msh", ok));
+  EXPECT_EQ(m.node_sets.at("bottom"), (std::vector<int>{0, 1}));
+}
+
+TEST_F(IoGmsh, ErrorOverflowingElementGeometry)
+{
+  // Each coordinate is finite, but the tet's volume and diameter overflow to inf / NaN.
+  const std::string text = replace_once(kTwoTets22, "50 1 1 1", "50 1e308 1 1");
+  const std::string path = write_file("bad.msh", text);
+  EXPECT_EQ(read_error(path), path + ":" + std::to_string(line_of(text, "7 4 2 8 2 20 30 40 50")) +
+                                  ": element size overflows double precision (node coordinates "
+                                  "up to 1e+308); rescale the mesh, e.g. to metres");
+  const std::string t2 = replace_once(kMixed2D22, "3 2 0 0", "3 2e200 0 0");
+  const std::string msg2 = read_error(write_file("bad2.msh", t2));
+  EXPECT_NE(msg2.find("element size overflows double precision"), std::string::npos) << msg2;
+
+  Mesh m;
+  m.X = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  m.etype = {ElemType::Tet4};
+  m.conn = {{0, 1, 2, 3}};
+  m.active = {1};
+  EXPECT_TRUE(element_geometry_finite(m, 0));
+  for (double& x : m.X)
+    x *= 1e160; // volume ~1e480
+  EXPECT_FALSE(element_geometry_finite(m, 0));
+  m.X.assign(12, 0.0);
+  m.X[3] = std::nan("");
+  EXPECT_FALSE(element_geometry_finite(m, 0));
+}
+
+TEST_F(IoGmsh, DamagedTextInMessagesIsShortAndEscaped)
+{
+  // Binary bytes (and terminal escape codes) are shown as \xNN, long text is cut at 60 characters.
+  const std::string garbage = std::string("\x01\x02garb\x1b[31m") + std::string(1000, 'x');
+  const std::string path = write_file("bin.msh", replace_once(kTwoTets22, "$MeshFormat", garbage));
+  const std::string msg = read_error(path);
+  EXPECT_EQ(msg.find(path + ":1: not a Gmsh mesh: expected $MeshFormat, got "
+                            "'\\x01\\x02garb\\x1B[31mxxx"),
+            0u)
+      << msg;
+  EXPECT_NE(msg.find("' (951 more characters)"), std::string::npos) << msg;
+  EXPECT_LT(msg.size(), path.size() + 200);
+  const std::string text =
+      replace_once(kTwoTets22, "30 0 1 0", "30 0 " + std::string(100000, '1') + " 0");
+  const std::string msg2 = read_error(write_file("long.msh", text));
+  EXPECT_NE(msg2.find("expected a number for y, got '" + std::string(60, '1') +
+                      "' (99940 more characters)"),
+            std::string::npos)
+      << msg2.substr(0, 300);
+  EXPECT_LT(msg2.size(), path.size() + 200);
+}
+
+TEST_F(IoGmsh, ByteOrderMarkAndBareCarriageReturns)
+{
+  expect_same_mesh(read_gmsh(write_file("a.msh", kTwoTets22)),
+                   read_gmsh(write_file("bom.msh", "\xEF\xBB\xBF" + kTwoTets22)));
+  std::string cr = kTwoTets22;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  const std::string path = write_file("cr.msh", cr);
+  EXPECT_EQ(read_error(path).find(path + ":1: lines end in a bare CR (classic Mac line endings)"),
+            0u)
+      << read_error(path).substr(0, 300);
+}
+
+TEST_F(IoGmsh, ErrorDirectoryAndSecondMeshFormat)
+{
+  EXPECT_EQ(read_error(dir_.string()), dir_.string() + ": is a directory, not a mesh file");
+  const std::string text = kTwoTets22 + "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  const std::string path = write_file("two_formats.msh", text);
+  EXPECT_EQ(read_error(path), path + ":" + std::to_string(line_of(text, "$MeshFormat", 2)) +
+                                  ": second $MeshFormat section");
 }

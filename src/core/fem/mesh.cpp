@@ -3,8 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-
-#include <algorithm>
 #include <tuple>
 
 namespace fracdem
@@ -127,6 +125,11 @@ double element_diameter(const Mesh& m, int e)
                             (p[2] - q[2]) * (p[2] - q[2]));
     }
   return std::sqrt(d2);
+}
+
+bool element_geometry_finite(const Mesh& m, int e)
+{
+  return std::isfinite(signed_measure(m, e)) && std::isfinite(element_diameter(m, e));
 }
 
 } // namespace fracdem

@@ -96,4 +96,9 @@ double facet_measure(const double* x, const Facet& fc);
 // bound of the element's width across any direction (crack-band checks).
 double element_diameter(const Mesh& m, int e);
 
+// True when element e's reference measure and diameter are finite: false when a coordinate is not
+// finite, or when coordinates are so large (~1e154 and up) that the volume or a squared distance
+// overflows. Readers and transforms check this so the FE setup never sees inf / NaN geometry.
+bool element_geometry_finite(const Mesh& m, int e);
+
 } // namespace fracdem

@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string_view>
@@ -79,6 +81,43 @@ const char* kReexport =
     "re-export it as ASCII, e.g. `gmsh FILE.msh -save -format msh22 -o OUT.msh` "
     "(or -format msh41)";
 
+// File text echoed in an error message: at most 60 characters, control and non-ASCII bytes as
+// \xNN. A damaged or binary file must not flood the log with megabytes of garbage or
+// terminal control codes, and a stray '\r' must show up rather than move the cursor.
+std::string quote(std::string_view s)
+{
+  constexpr std::size_t kMax = 60;
+  std::string out = "'";
+  for (std::size_t i = 0; i < s.size() && i < kMax; ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\x%02X", c);
+      out += buf;
+    }
+  }
+  out += "'";
+  if (s.size() > kMax) out += " (" + std::to_string(s.size() - kMax) + " more characters)";
+  return out;
+}
+
+// Text that reads as part of a sentence (a version, a section name): as it is when it is short
+// printable ASCII, quoted as above otherwise.
+std::string plain(std::string_view s)
+{
+  const bool ok =
+      s.size() <= 60 && std::all_of(s.begin(), s.end(), [](char c) {
+        return static_cast<unsigned char>(c) >= 0x20 && static_cast<unsigned char>(c) < 0x7f;
+      });
+  return ok ? std::string(s) : quote(s);
+}
+
+// Header counts (nodes, names) are not trusted for allocation: a damaged count of 10^12 must
+// end in "expected ... got ..." when the records run out, not in std::bad_alloc up front.
+constexpr long long kReserveCap = 1 << 20;
+
 // Reads the file line by line so every error can name its line. Gmsh writes
 // one record per line in both ASCII formats, and a line-based parser can say
 // "expected 4 node tags, got 3" where a token stream would silently run into
@@ -86,8 +125,13 @@ const char* kReexport =
 class LineParser
 {
 public:
-  explicit LineParser(const std::string& path) : path_(path), in_(path)
+  explicit LineParser(const std::string& path) : path_(path)
   {
+    // A directory opens as a stream on Linux and then reads as an empty file.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      throw MeshReadError(path + ": is a directory, not a mesh file");
+    in_.open(path);
     if (!in_) throw MeshReadError(path + ": cannot open file for reading");
   }
 
@@ -97,9 +141,12 @@ public:
     while (std::getline(in_, line_)) {
       ++lineno_;
       if (!line_.empty() && line_.back() == '\r') line_.pop_back();
+      // A UTF-8 byte order mark, as some Windows editors write, is not part of $MeshFormat.
+      if (lineno_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);
       tokenize();
       if (!tok_.empty()) return true;
     }
+    if (in_.bad()) fail("read error");
     return false;
   }
 
@@ -114,11 +161,16 @@ public:
 
   // Same, for the i-th of n records ("expected 6 nodes, got 4"); builds the
   // message only on failure, since this runs once per line.
+  // A '$' line among the records means the section ended early: its header count is wrong.
   void need(const char* section, long long n, long long i, const char* what)
   {
     if (!next())
       fail("unexpected end of file in $" + std::string(section) + ": expected " +
            std::to_string(n) + " " + what + ", got " + std::to_string(i) + " (truncated file?)");
+    if (line_trimmed().front() == '$')
+      fail("expected " + std::to_string(n) + " " + what + " in $" + section + ", got " +
+           std::to_string(i) + " before " + quote(line_trimmed()) +
+           " (wrong count in the section header?)");
   }
 
   // The line after a section's records must close it.
@@ -126,8 +178,7 @@ public:
   {
     const std::string end = "$End" + section;
     if (!next()) fail("unexpected end of file: expected " + end);
-    if (line_trimmed() != end)
-      fail("expected " + end + ", got '" + std::string(line_trimmed()) + "'");
+    if (line_trimmed() != end) fail("expected " + end + ", got " + quote(line_trimmed()));
   }
 
   // Skips a section we do not use, up to its end marker.
@@ -137,7 +188,7 @@ public:
     const long start = lineno_;
     while (next())
       if (line_trimmed() == end) return;
-    fail("unexpected end of file: expected " + end + " closing the section opened on line " +
+    fail("unexpected end of file: expected " + plain(end) + " closing the section opened on line " +
          std::to_string(start));
   }
 
@@ -183,8 +234,19 @@ public:
     if (b != e && *b == '+') ++b;
     auto r = std::from_chars(b, e, v);
     if (r.ec != std::errc() || r.ptr != e)
-      fail("expected an integer for " + std::string(what) + ", got '" + std::string(s) + "'");
+      fail("expected an integer for " + std::string(what) + ", got " + quote(s));
     return v;
+  }
+
+  // An integer that must fit an int (physical and entity tags, dimensions): a 64-bit value
+  // would otherwise be truncated into some other tag.
+  int to_int32(std::size_t i, std::string_view what) const
+  {
+    const long long v = to_int(i, what);
+    if (v < -std::numeric_limits<int>::max() || v > std::numeric_limits<int>::max())
+      fail(std::string(what) + " " + std::to_string(v) + " is out of range (at most " +
+           std::to_string(std::numeric_limits<int>::max()) + " in magnitude)");
+    return static_cast<int>(v);
   }
 
   long long to_count(std::size_t i, std::string_view what) const
@@ -203,7 +265,7 @@ public:
     if (b != e && *b == '+') ++b;
     auto r = std::from_chars(b, e, v);
     if (r.ec != std::errc() || r.ptr != e || !std::isfinite(v))
-      fail("expected a number for " + std::string(what) + ", got '" + std::string(s) + "'");
+      fail("expected a number for " + std::string(what) + ", got " + quote(s));
     return v;
   }
 
@@ -314,8 +376,8 @@ void read_physical_names(LineParser& p, RawMesh& raw)
     p.need("PhysicalNames", n, i, "names");
     if (p.size() < 3)
       p.fail("expected 'dim tag \"name\"', got " + std::to_string(p.size()) + " fields");
-    const int d = static_cast<int>(p.to_int(0, "physical dimension"));
-    const int tag = static_cast<int>(p.to_int(1, "physical tag"));
+    const int d = p.to_int32(0, "physical dimension");
+    const int tag = p.to_int32(1, "physical tag");
     // The name is the rest of the line; it may contain blanks inside quotes.
     std::string_view s = p.line_trimmed();
     const std::size_t at = p.tok(2).data() - s.data();
@@ -335,8 +397,8 @@ void read_nodes22(LineParser& p, RawMesh& raw)
   p.need("Nodes", "the number of nodes");
   p.want_fields(1, "number of nodes");
   const long long n = p.to_count(0, "number of nodes");
-  raw.node_tag.reserve(n);
-  raw.node_xyz.reserve(3 * n);
+  raw.node_tag.reserve(std::min(n, kReserveCap));
+  raw.node_xyz.reserve(3 * std::min(n, kReserveCap));
   for (long long i = 0; i < n; ++i) {
     p.need("Nodes", n, i, "nodes");
     p.want_fields(4, "node: tag x y z");
@@ -366,7 +428,7 @@ void read_elements22(LineParser& p, RawMesh& raw)
     check_node_count(p, t, static_cast<long long>(p.size()) - 3 - ntags);
     phys.clear();
     // First tag = physical group, second = elementary entity, then partitions.
-    if (ntags >= 1) phys.push_back(std::abs(static_cast<int>(p.to_int(3, "physical tag"))));
+    if (ntags >= 1) phys.push_back(std::abs(p.to_int32(3, "physical tag")));
     for (long long k = 1; k < ntags; ++k)
       p.to_int(3 + k, "element tag");
     add_element(p, raw, t, 3 + ntags, phys);
@@ -393,7 +455,7 @@ void read_entities41(LineParser& p, RawMesh& raw)
       if (p.size() < nphys_at + 1)
         p.fail("entity of dimension " + std::to_string(d) + ": expected at least " +
                std::to_string(nphys_at + 1) + " fields, got " + std::to_string(p.size()));
-      const int tag = static_cast<int>(p.to_int(0, "entity tag"));
+      const int tag = p.to_int32(0, "entity tag");
       for (std::size_t k = 1; k < nphys_at; ++k)
         p.to_double(k, "entity coordinate");
       const long long nphys = p.to_count(nphys_at, "number of physical tags");
@@ -403,7 +465,7 @@ void read_entities41(LineParser& p, RawMesh& raw)
                std::to_string(p.size() - nphys_at - 1));
       std::vector<int> phys;
       for (long long k = 0; k < nphys; ++k)
-        phys.push_back(std::abs(static_cast<int>(p.to_int(nphys_at + 1 + k, "physical tag"))));
+        phys.push_back(std::abs(p.to_int32(nphys_at + 1 + k, "physical tag")));
       if (d > 0) {
         if (p.size() < expect + 1)
           p.fail("expected the number of bounding entities after the physical tags");
@@ -430,8 +492,8 @@ void read_nodes41(LineParser& p, RawMesh& raw)
   p.want_fields(4, "numEntityBlocks numNodes minNodeTag maxNodeTag");
   const long long nblocks = p.to_count(0, "number of node blocks");
   const long long n = p.to_count(1, "number of nodes");
-  raw.node_tag.reserve(n);
-  raw.node_xyz.reserve(3 * n);
+  raw.node_tag.reserve(std::min(n, kReserveCap));
+  raw.node_xyz.reserve(3 * std::min(n, kReserveCap));
   long long total = 0;
   std::vector<long long> tags;
   for (long long b = 0; b < nblocks; ++b) {
@@ -478,8 +540,8 @@ void read_elements41(LineParser& p, RawMesh& raw)
   for (long long b = 0; b < nblocks; ++b) {
     p.need("Elements", nblocks, b, "element blocks");
     p.want_fields(4, "element block: entityDim entityTag elementType numElementsInBlock");
-    const int edim = static_cast<int>(p.to_int(0, "entity dimension"));
-    const int etag = static_cast<int>(p.to_int(1, "entity tag"));
+    const int edim = p.to_int32(0, "entity dimension");
+    const int etag = p.to_int32(1, "entity tag");
     const GmshType& t = lookup_type(p, p.to_int(2, "element type"));
     const long long m = p.to_count(3, "number of elements in block");
     if (edim != t.dim)
@@ -509,12 +571,14 @@ int read_format(LineParser& p)
   const std::string_view first = p.line_trimmed();
   if (first == "$NOD" || first == "$NOE")
     p.fail(std::string("Gmsh format version 1 is not supported; ") + kReexport);
-  if (first != "$MeshFormat")
-    p.fail("not a Gmsh mesh: expected $MeshFormat, got '" + std::string(first) + "'");
+  if (first.find('\r') != std::string_view::npos && first.compare(0, 11, "$MeshFormat") == 0)
+    p.fail("lines end in a bare CR (classic Mac line endings); convert the file to LF or CRLF "
+           "line endings, e.g. `tr '\\r' '\\n' < IN.msh > OUT.msh`");
+  if (first != "$MeshFormat") p.fail("not a Gmsh mesh: expected $MeshFormat, got " + quote(first));
   p.need("MeshFormat", "'version file-type data-size'");
   if (p.size() < 3)
     p.fail("expected 'version file-type data-size', got " + std::to_string(p.size()) + " fields");
-  const std::string version(p.tok(0));
+  const std::string version = plain(p.tok(0));
   const double v = p.to_double(0, "format version");
   const long long file_type = p.to_int(1, "file type");
   int fmt = 0;
@@ -537,9 +601,11 @@ RawMesh read_raw(const std::string& path)
   while (p.next()) {
     const std::string_view head = p.line_trimmed();
     if (head.empty() || head.front() != '$')
-      p.fail("expected a section header such as $Nodes, got '" + std::string(head) + "'");
+      p.fail("expected a section header such as $Nodes, got " + quote(head));
     const std::string name(head.substr(1));
-    if (name == "PhysicalNames") {
+    if (name == "MeshFormat") {
+      p.fail("second $MeshFormat section");
+    } else if (name == "PhysicalNames") {
       read_physical_names(p, raw);
     } else if (name == "Nodes") {
       if (raw.have_nodes) p.fail("second $Nodes section");
@@ -557,7 +623,7 @@ RawMesh read_raw(const std::string& path)
       p.fail("partitioned Gmsh meshes are not supported; re-export without partitions "
              "(fracdem decomposes bodies itself)");
     } else if (name.compare(0, 3, "End") == 0) {
-      p.fail("unexpected '" + std::string(head) + "' outside its section");
+      p.fail("unexpected " + quote(head) + " outside its section");
     } else {
       p.skip_section(name); // $Comments, $Periodic, $NodeData, ...
     }
@@ -632,6 +698,7 @@ Mesh read_gmsh(const std::string& path, int dim)
   std::vector<int> elem_of(ne_raw, -1); // raw element -> body element
   std::unordered_map<ElemKey, int, ElemKeyHash> seen;
   std::vector<long long> conn_tags; // 4 per body element, -1 padded
+  std::vector<long> body_line;      // file line of each body element
   for (std::size_t r = 0; r < ne_raw; ++r) {
     const GmshType& t = *raw.etype[r];
     if (t.dim != body) continue;
@@ -648,12 +715,21 @@ Mesh read_gmsh(const std::string& path, int dim)
     for (int a = 1; a < t.nodes; ++a)
       for (int b = a; b > 0 && key.n[b - 1] > key.n[b]; --b)
         std::swap(key.n[b - 1], key.n[b]);
+    // A body element with a node twice is collapsed (a quad turns into a triangle with a
+    // zero-length edge that still counts as a boundary facet). Lower-dimensional elements may
+    // repeat nodes: meshgen writes single-node sets as [a, b, b] triangles.
+    for (int a = 1; a < t.nodes; ++a)
+      if (key.n[a] == key.n[a - 1])
+        throw fail_at(raw.eline[r], "element of type " + type_label(t) + " lists node tag " +
+                                        std::to_string(key.n[a]) +
+                                        " more than once; body elements need distinct nodes");
     auto ins = seen.emplace(key, mesh.num_elems());
     if (!ins.second) { // the same element again, listed for another physical group
       elem_of[r] = ins.first->second;
       continue;
     }
     elem_of[r] = mesh.num_elems();
+    body_line.push_back(raw.eline[r]);
     std::array<int, 4> c{{-1, -1, -1, -1}};
     for (int k = 0; k < t.nodes; ++k)
       conn_tags.push_back(raw.enode[raw.enode_off[r] + k]);
@@ -688,6 +764,20 @@ Mesh read_gmsh(const std::string& path, int dim)
     for (int k = 0; k < nn; ++k)
       mesh.conn[e][k] = index_of(conn_tags[4 * e + k]);
   }
+  // Coordinates are finite one by one, but an element of size ~1e154 and up has a volume or
+  // diameter that overflows: the FE setup would then call it "degenerate" with a NaN volume.
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (!element_geometry_finite(mesh, e)) {
+      double big = 0;
+      for (int k = 0; k < nodes_per_elem(mesh.etype[e]); ++k)
+        for (int d = 0; d < 3; ++d)
+          big = std::max(big, std::fabs(mesh.X[3 * mesh.conn[e][k] + d]));
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%.3g", big);
+      throw fail_at(body_line[e], std::string("element size overflows double precision (node "
+                                              "coordinates up to ") +
+                                      buf + "); rescale the mesh, e.g. to metres");
+    }
 
   // ---- physical groups -> node and element sets -------------------------
   auto group_name = [&](int d, int tag) {

@@ -35,11 +35,16 @@ struct MeshReadError : std::runtime_error {
 //    merged. Elements that Gmsh 2.2 repeats once per physical group are
 //    merged back into one element.
 //
-// Throws MeshReadError for: unreadable file, binary or other format versions,
-// unsupported element types of the body's dimension, wrong field counts,
-// non-numeric fields, duplicate node tags, unknown node references, truncated
-// sections, missing $EndX, empty body, elements of a higher dimension than a
-// requested dim, and non-zero z in 2D.
+// Throws MeshReadError for: unreadable file or a directory, binary or other
+// format versions, unsupported element types of the body's dimension, wrong
+// field counts, non-numeric or non-finite fields, physical / entity tags beyond
+// int, duplicate node tags, unknown node references, body elements listing a
+// node twice, body elements whose size overflows double precision, truncated
+// sections or sections shorter than their header count, missing $EndX, empty
+// body, elements of a higher dimension than a requested dim, and non-zero z in
+// 2D. File text quoted in a message is cut to 60 characters, with control and
+// non-ASCII bytes as \xNN. A UTF-8 byte order mark and CRLF line ends are
+// accepted.
 Mesh read_gmsh(const std::string& path, int dim = 0);
 
 // Writes mesh as a Gmsh 2.2 ASCII file: all nodes, all elements (active or
