@@ -101,6 +101,16 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
     error->all(FLERR, ("fix balance/graph: " + msg).c_str());
   };
   if (narg < 5) fail("expected 'fix ID all balance/graph Nevery thresh [keyword value ...]'");
+  // Particle ownership is one per run: two balancers would each impose their own partition at
+  // every check. Re-issuing the same ID replaces the fix (its slot is empty while this one is
+  // built), which is allowed.
+  for (int i = 0; i < modify->nfix; ++i) {
+    const auto* other = dynamic_cast<const FixBalanceGraph*>(modify->fix[i]);
+    if (other && strcmp(other->id, arg[0]) != 0)
+      fail(std::string("fix ") + arg[0] + ": fix " + other->id +
+           " is a balance/graph already and only one may be defined (re-issue 'fix " + other->id +
+           " all balance/graph ...' to change it, or 'unfix " + other->id + "' first)");
+  }
   if (strcmp(arg[1], "all") != 0) fail("group must be 'all' (every particle is balanced)");
   char* end = nullptr;
   check_every_ = static_cast<int>(strtol(arg[3], &end, 10));

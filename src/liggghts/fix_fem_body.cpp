@@ -35,6 +35,9 @@ namespace
 {
 
 const char* const kStyle = "fix fem/body";
+// Steps between checks that the body is still inside the box (besides every re-neighbouring):
+// a pass over its surface nodes, cheap beside the element work of as many steps.
+constexpr int kBoxCheckEvery = 100;
 
 // Sub-model tables: one place maps keywords to models.
 const std::map<std::string, fracdem::Kinematics> kKinematicsTable = {
@@ -105,6 +108,7 @@ FixFemBody::FixFemBody(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
 
   parse_arguments(narg, arg);
   load_mesh();
+  find_restart_records();
 
   scalar_flag = 1;
   extscalar = 1;
@@ -194,6 +198,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     } else if (!strcmp(kw, "plane")) {
       need(iarg, 1, kw, "strain, stress or axisymmetric");
       material_.plane = lookup(error, kPlaneModeTable, kw, arg[iarg + 1]);
+      have_plane_ = true;
       iarg += 2;
     } else if (!strcmp(kw, "thickness")) {
       need(iarg, 1, kw, "a value");
@@ -250,6 +255,12 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       for (int d = 0; d < 3; ++d)
         t.a[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
       t.a[3] = force->numeric(FLERR, arg[iarg + 6]) * M_PI / 180.0;
+      if (!fracdem::valid_axis(t.a)) {
+        const std::string msg = std::string(kStyle) + ": keyword 'rotate' got axis " +
+                                arg[iarg + 2] + " " + arg[iarg + 3] + " " + arg[iarg + 4] +
+                                ", expected a non-zero axis direction ax ay az";
+        error->all(FLERR, msg.c_str());
+      }
       transforms_.push_back(t);
       iarg += 7;
     } else if (!strcmp(kw, "rigid")) {
@@ -340,7 +351,7 @@ void FixFemBody::parse_motion(int narg, char** arg, int& iarg)
     motion_.period = force->numeric(FLERR, arg[iarg + 11]);
     double* k = motion_.axis;
     const double n = std::sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
-    if (n == 0 || motion_.period == 0)
+    if (!fracdem::valid_axis(k) || motion_.period == 0)
       error->all(FLERR, "fix fem/body: 'motion rotate' needs a non-zero axis and period");
     for (int d = 0; d < 3; ++d)
       k[d] /= n;
@@ -467,6 +478,10 @@ void FixFemBody::check_arguments()
                             "fails, e.g. 'material rankine strength FT fracture_energy GF'";
     error->all(FLERR, msg.c_str());
   }
+  // A 3D mesh has no plane formulation: 'plane axisymmetric' there would silently run 3D.
+  if (have_plane_ && domain->dimension == 3)
+    error->all(FLERR, "fix fem/body: keyword 'plane' applies to 2D runs ('dimension 2'); this run "
+                      "is 3D (leave out 'plane')");
   if (compliance_combined_ < 0) compliance_combined_ = rigid_ ? 1 : 0;
   // Off unless asked for: with the rotating crack, contact between fragments can feed energy into
   // fully cracked elements (docs/fracture.md, restrictions).
@@ -521,6 +536,7 @@ void FixFemBody::load_mesh()
   }
   rebuild_surfaces();
   check_crack_band();
+  check_in_box("as placed");
   log_body();
 }
 
@@ -548,6 +564,97 @@ void FixFemBody::check_crack_band()
              id, worst, mesh_file_.c_str(), hmax, limit, limit);
     error->all(FLERR, msg);
   }
+}
+
+/* ----------------------------------------------------------------------
+   the body in the simulation box
+------------------------------------------------------------------------- */
+
+// Particles live inside the box. Beyond a fixed face they are lost, so the body's surface must
+// lie inside the fixed faces. Across a periodic boundary the particles' images (one period away)
+// meet the body, so it may cross the boundary, but not be longer than the period (it would
+// overlap its own image) nor lie more than a period outside. A shrink-wrapped face follows the
+// particles to wherever the body is. Only surface nodes count: nothing else can be hit (the free
+// nodes of eroded elements may fly anywhere). Slack: the contact search buffer.
+std::string FixFemBody::box_violation() const
+{
+  const std::vector<fracdem::Facet>& facets = contact_.facets();
+  if (facets.empty()) return "";
+  const std::vector<double>& x = body_.positions();
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = std::numeric_limits<double>::infinity();
+    hi[d] = -lo[d];
+  }
+  for (const fracdem::Facet& fc : facets)
+    for (int k = 0; k < fc.nn; ++k)
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], x[3 * fc.n[k] + d]);
+        hi[d] = std::max(hi[d], x[3 * fc.n[k] + d]);
+      }
+  const double* blo = domain->triclinic ? domain->boxlo_bound : domain->boxlo;
+  const double* bhi = domain->triclinic ? domain->boxhi_bound : domain->boxhi;
+  const double slack = buffer_ >= 0 ? buffer_ : neighbor->skin;
+  const int dim = domain->dimension; // 2D: z is periodic by rule and the body lies in z = 0
+  for (int d = 0; d < dim; ++d) {
+    const std::string axis(1, "xyz"[d]);
+    std::string why;
+    if (domain->periodicity[d]) {
+      const double period = bhi[d] - blo[d];
+      if (hi[d] - lo[d] > period + slack)
+        why = " is longer than its period in the periodic dimension " + axis +
+              "; it would overlap its own periodic image: shorten it or enlarge the box in " + axis;
+      else if (lo[d] < blo[d] - period - slack || hi[d] > bhi[d] + period + slack)
+        why = " lies more than a period outside it in the periodic dimension " + axis +
+              ", beyond the reach of the particles' images: move it into the box";
+    } else {
+      for (int side = 0; side < 2 && why.empty(); ++side) {
+        const bool out = side == 0 ? lo[d] < blo[d] - slack : hi[d] > bhi[d] + slack;
+        if (out && domain->boundary[d][side] == 1) // 2, 3: shrink-wrapped
+          why = " reaches beyond its fixed " + axis + (side ? "-high" : "-low") +
+                " face; particles are lost beyond a fixed face, so they cannot hit "
+                "that part: keep the body inside or enlarge the box";
+      }
+    }
+    if (why.empty()) continue;
+    std::string extent = "the body (", box = " in the box (";
+    for (int e = 0; e < dim; ++e) {
+      char r[96];
+      snprintf(r, sizeof r, "%s%c %g to %g", e ? ", " : "", "xyz"[e], lo[e], hi[e]);
+      extent += r;
+      snprintf(r, sizeof r, "%s%c %g to %g", e ? ", " : "", "xyz"[e], blo[e], bhi[e]);
+      box += r;
+    }
+    return extent + ")" + box + ")" + why;
+  }
+  return "";
+}
+
+// A body placed outside, or a rigid body outside (carried there by its prescribed motion, or
+// left there by 'change_box'), is an input mistake: refused. A deformable body gets out by its
+// own dynamics (fragments thrown off, a body pushed out): only the part outside is out of the
+// particles' reach, so the run goes on with one warning.
+// when: "as placed" (fix command), "at the start of the run", or nullptr: at this step.
+void FixFemBody::check_in_box(const char* when)
+{
+  const bool placed = when && !strcmp(when, "as placed");
+  if (!placed && !rigid_ && warned_outside_) return;
+  const std::string where = box_violation();
+  if (where.empty()) return;
+  char step[64];
+  snprintf(step, sizeof step, "at step " BIGINT_FORMAT, update->ntimestep);
+  std::string msg =
+      std::string(kStyle) + " " + id + ": mesh '" + mesh_file_ + "' " + (when ? when : step) + ": ";
+  if (placed) {
+    error->all(FLERR, (msg + where + " (keywords 'move', 'scale', 'rotate' place it)").c_str());
+  } else if (rigid_) {
+    if (motion_.kind != fracdem::RigidMotion::None)
+      msg += "its prescribed 'motion' has carried it out of the box: ";
+    error->all(FLERR, (msg + where).c_str());
+  }
+  warned_outside_ = true;
+  msg += "its nodes have moved out of the box: " + where + " (warned once; the run goes on)";
+  if (comm->me == 0) error->warning(FLERR, msg.c_str());
 }
 
 void FixFemBody::log_body()
@@ -620,6 +727,7 @@ void FixFemBody::read_contact_properties()
 
 void FixFemBody::init()
 {
+  check_restart_records();
   fe_only_.init(this);
   fracdem::ParticleFacetOptions opt;
   opt.model = normal_model_;
@@ -700,14 +808,19 @@ void FixFemBody::setup(int /*vflag*/)
   }
   initial_velocity_applied_ = true;
   if (rigid_) body_.move_rigid();
+  check_in_box("at the start of the run"); // restart, change_box and earlier runs move it
   contact_.invalidate_search();
   compute_forces();
+  log_memory();
   if (energy_fp_ && update->ntimestep % energy_every_ == 0) write_energy_row();
 }
 
+// The host drops particles outside the box when it re-neighbours: the body is checked then too,
+// and every kBoxCheckEvery steps (a scene without moving particles never re-neighbours).
 void FixFemBody::pre_neighbor()
 {
   contact_.invalidate_search();
+  check_in_box(nullptr);
 }
 
 /* ----------------------------------------------------------------------
@@ -722,6 +835,7 @@ void FixFemBody::initial_integrate(int /*vflag*/)
     body_.move_rigid();
   else
     body_.half_kick_drift(update->dt);
+  if (update->ntimestep % kBoxCheckEvery == 0) check_in_box(nullptr);
 }
 
 void FixFemBody::post_force(int /*vflag*/)
@@ -1139,21 +1253,100 @@ void FixFemBody::write_energy_row()
    from the restart file.
 ------------------------------------------------------------------------- */
 
+namespace
+{
+
+// The adapter's head of the record, before the body's own (Body::pack_state): this marker (a body
+// record starts with its version, 1 or 2), the number of doubles that follow in the head, then
+// rigid (0 / 1), the number of placement transforms and 5 doubles per transform (kind, a[4]).
+// Records written without the head start with the body record and are read as before.
+constexpr double kRecordHead = -1.0;
+
+// The placement keywords as the input writes them.
+std::string placement_text(bool rigid, const std::vector<fracdem::MeshTransform>& transforms)
+{
+  std::string text = rigid ? "rigid yes" : "rigid no";
+  for (const fracdem::MeshTransform& t : transforms) {
+    char w[160];
+    if (t.kind == fracdem::MeshTransform::Scale)
+      snprintf(w, sizeof w, " scale %g", t.a[0]);
+    else if (t.kind == fracdem::MeshTransform::Move)
+      snprintf(w, sizeof w, " move %g %g %g", t.a[0], t.a[1], t.a[2]);
+    else
+      snprintf(w, sizeof w, " rotate axis %g %g %g angle %g", t.a[0], t.a[1], t.a[2],
+               t.a[3] * 180.0 / M_PI);
+    text += w;
+  }
+  return text;
+}
+
+bool same_placement(const std::vector<fracdem::MeshTransform>& a,
+                    const std::vector<fracdem::MeshTransform>& b)
+{
+  if (a.size() != b.size()) return false;
+  for (size_t k = 0; k < a.size(); ++k) {
+    if (a[k].kind != b[k].kind) return false;
+    for (int i = 0; i < 4; ++i)
+      if (std::fabs(a[k].a[i] - b[k].a[i]) > 1e-12 * std::max(1.0, std::fabs(a[k].a[i])))
+        return false;
+  }
+  return true;
+}
+
+} // namespace
+
 void FixFemBody::write_restart(FILE* fp)
 {
   if (comm->me != 0) return;
-  std::vector<double> buf;
-  body_.pack_state(buf);
+  std::vector<double> buf = {kRecordHead, 0.0, rigid_ ? 1.0 : 0.0,
+                             static_cast<double>(transforms_.size())};
+  for (const fracdem::MeshTransform& t : transforms_) {
+    buf.push_back(static_cast<double>(t.kind));
+    buf.insert(buf.end(), t.a, t.a + 4);
+  }
+  buf[1] = static_cast<double>(buf.size() - 2);
+  std::vector<double> body;
+  body_.pack_state(body);
+  buf.insert(buf.end(), body.begin(), body.end());
   // The host reads the size in bytes, then that many bytes.
   const int nbytes = static_cast<int>(buf.size() * sizeof(double));
   fwrite(&nbytes, sizeof(int), 1, fp);
   fwrite(buf.data(), sizeof(double), buf.size(), fp);
 }
 
+// The stored state keeps the stored placement (reference coordinates included), so a command
+// that places the body otherwise, or changes 'rigid', would be silently overruled: refused.
+void FixFemBody::check_stored_placement(const double* head, int n)
+{
+  const int nt = n >= 2 ? static_cast<int>(head[1]) : -1;
+  if (nt < 0 || n < 2 + 5 * nt) error->all(FLERR, "fix fem/body: corrupt restart record");
+  std::vector<fracdem::MeshTransform> stored(nt);
+  for (int k = 0; k < nt; ++k) {
+    stored[k].kind = static_cast<fracdem::MeshTransform::Kind>(static_cast<int>(head[2 + 5 * k]));
+    std::copy(head + 3 + 5 * k, head + 7 + 5 * k, stored[k].a);
+  }
+  const bool rigid = head[0] != 0.0;
+  if (rigid == rigid_ && same_placement(stored, transforms_)) return;
+  const std::string msg = std::string(kStyle) + " " + id +
+                          ": the restart file holds this body with '" +
+                          placement_text(rigid, stored) + "' but this command gives '" +
+                          placement_text(rigid_, transforms_) +
+                          "'; the body continues from the stored state and placement, so give "
+                          "the stored keywords (to start the body afresh from its mesh instead, "
+                          "put 'run 0' before this fix command: a run drops the file's fix "
+                          "states)";
+  error->all(FLERR, msg.c_str());
+}
+
 void FixFemBody::restart(char* raw)
 {
+  const double* record = reinterpret_cast<const double*>(raw);
+  if (record[0] == kRecordHead) {
+    check_stored_placement(record + 2, static_cast<int>(record[1]));
+    record += 2 + static_cast<int>(record[1]);
+  }
   try {
-    body_.unpack_state(reinterpret_cast<const double*>(raw));
+    body_.unpack_state(record);
   } catch (const std::exception& e) {
     std::string msg = std::string(kStyle) + " " + id + ": " + e.what() + " (mesh '" + mesh_file_ +
                       "'); use the same mesh file and transforms as the run that wrote it";
@@ -1161,6 +1354,35 @@ void FixFemBody::restart(char* raw)
   }
   rebuild_surfaces();
   restarted_state_ = true;
+}
+
+// The host hands a fix its restart record by fix ID (and style) only: a fix fem/body whose ID
+// the file does not hold starts from its mesh. When the file holds a body under another ID, that
+// is most often a renamed fix, which would silently start the body afresh. The host drops the
+// records at the next run, so their IDs are noted here and checked at this fix's first run,
+// when the input has defined all its fixes.
+void FixFemBody::find_restart_records()
+{
+  const int n = modify->n_restart_data_global_style(style);
+  if (n == 0 || modify->have_restart_data(this)) return;
+  for (int k = 0; k < n; ++k)
+    other_restart_ids_.emplace_back(modify->id_restart_data_global_style(style, k));
+}
+
+void FixFemBody::check_restart_records()
+{
+  for (const std::string& stored : other_restart_ids_) {
+    if (dynamic_cast<FixFemBody*>(modify->find_fix_id(stored.c_str()))) continue;
+    std::string msg = std::string(kStyle) + " " + id +
+                      ": the restart file holds the state of fix fem/body '" + stored +
+                      "', which no fix of this input takes up, and this fix (ID '" + id +
+                      "') got no state and starts from its mesh; a fix gets its restart state by "
+                      "its ID: use 'fix ";
+    msg += stored + " ...' to continue that body (to start a new body instead, put 'run 0' "
+                    "before this fix command: a run drops the file's fix states)";
+    error->all(FLERR, msg.c_str());
+  }
+  other_restart_ids_.clear();
 }
 
 /* ----------------------------------------------------------------------
@@ -1229,9 +1451,47 @@ int FixFemBody::maxsize_restart()
   return nslots_ * kSlotDoubles + 1;
 }
 
+// The body (replicated on every rank), its contact structures and the per-particle history.
 double FixFemBody::memory_usage()
 {
-  double bytes = sizeof(double) * 15 * body_.num_nodes();
+  double bytes = static_cast<double>(body_.memory_bytes()) + contact_memory_bytes();
   bytes += sizeof(double) * nmax_atoms_ * nslots_ * kSlotDoubles;
   return bytes;
+}
+
+template <typename T> static double vector_bytes(const std::vector<T>& v)
+{
+  return static_cast<double>(v.capacity() * sizeof(T));
+}
+
+// Particle-facet contact keeps its arrays private; they are estimated from its facet and node
+// counts (particle_facet.cpp, contact_resolution.cpp): per facet the facet, its reference normal
+// and about 1.5 edges in the edge map (an unordered_map node with a short vector); per node two
+// doubles (surface area, indentation) and a neighbour list. The body-contact surface is public.
+double FixFemBody::contact_memory_bytes() const
+{
+  const double nf = static_cast<double>(contact_.facets().capacity());
+  const double nn = body_.num_nodes();
+  double bytes = nf * (sizeof(fracdem::Facet) + 3 * sizeof(double) + 1.5 * 96) +
+                 nn * (2 * sizeof(double) + sizeof(std::vector<int>)) +
+                 6 * sizeof(int) * contact_.facets().size();
+  bytes += vector_bytes(surface_.facets) + vector_bytes(surface_.nodes) +
+           vector_bytes(surface_.incident_offset) + vector_bytes(surface_.incident) +
+           vector_bytes(surface_.reach);
+  return bytes;
+}
+
+// One line per body and run, beside the host's "Memory usage per processor": every rank holds
+// the whole body, so a large body is most of a rank's memory. The per-particle contact history
+// scales with the particles, not the body: counted in memory_usage() only.
+void FixFemBody::log_memory()
+{
+  double bytes = static_cast<double>(body_.memory_bytes()) + contact_memory_bytes();
+  MPI_Allreduce(MPI_IN_PLACE, &bytes, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (comm->me != 0) return;
+  char line[256];
+  snprintf(line, sizeof(line), "fix fem/body %s: %d nodes, %d elements, %.4g MB per rank\n", id,
+           body_.num_nodes(), body_.mesh().num_active_elems(), bytes / (1024.0 * 1024.0));
+  if (screen) fputs(line, screen);
+  if (logfile) fputs(line, logfile);
 }

@@ -93,6 +93,14 @@ private:
   void check_arguments();
   void load_mesh();
   void log_body();
+  void log_memory();
+  double contact_memory_bytes() const;
+  // Where the body leaves the part of the box that particles can reach ("" if nowhere).
+  std::string box_violation() const;
+  void check_in_box(const char* when);
+  void find_restart_records();
+  void check_restart_records();
+  void check_stored_placement(const double* head, int n);
   void check_crack_band();
   std::vector<int> node_set(const std::string& name, const char* keyword) const;
   void read_contact_properties();
@@ -120,6 +128,7 @@ private:
   fracdem::Material material_;
   bool have_density_ = false, have_youngs_ = false, have_poisson_ = false;
   bool rigid_ = false;
+  bool have_plane_ = false;
   fracdem::RigidMotion motion_;
   std::vector<FixedSpec> fixed_sets_;
   std::vector<std::string> reaction_groups_; // fixed / prescribed_velocity groups, in order
@@ -164,8 +173,12 @@ private:
   double dt_stable_ = 0;
   bool initial_velocity_applied_ = false;
   bool restarted_state_ = false;
+  // fem/body records of a restart file read before this fix, when none has this fix's ID; the
+  // first run checks that other fixes take them up (a renamed fix would silently start afresh).
+  std::vector<std::string> other_restart_ids_;
   bool warned_slots_ = false;
   bool warned_unresolved_ = false; // the time-resolution warning is given once per run
+  bool warned_outside_ = false;    // a deformable body's nodes left the box: warned once
 
   // ---- per-atom tangential history (rows of nslots_ records) ----
   int nslots_ = 8;

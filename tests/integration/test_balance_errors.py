@@ -1,5 +1,6 @@
 """fix balance/graph refuses bad input with a clear error naming the command, keyword and what
-was expected, and refuses fix mesh/surface walls naming the rigid fem/body alternative."""
+was expected, refuses fix mesh/surface walls naming the rigid fem/body alternative, and refuses a
+second balancer (two would repartition against each other at every check)."""
 import os
 import re
 import tempfile
@@ -35,6 +36,8 @@ cases = [
     ("group lower id <= 10\nfix bal lower balance/graph 10 1.1", "group must be 'all'"),
     ("fix wallmesh all mesh/surface file plate.stl type 1\n"
      "fix bal all balance/graph 10 1.1", "use a rigid 'fix fem/body"),
+    ("fix bal all balance/graph 10 1.1\nfix bal2 all balance/graph 20 1.2",
+     "fix bal2: fix bal is a balance/graph already and only one may be defined"),
 ]
 for extra, expected in cases:
     wd = tempfile.mkdtemp(prefix="balance_errors_")

@@ -1,6 +1,8 @@
-"""Every example runs (shortened) at 2 ranks: no error, no particle lost, ParaView output written."""
+"""Every example runs (shortened) at 2 ranks: no error, no particle lost, ParaView output written,
+nothing but out/ created (LIGGGHTS' `shell mkdir` takes no options: `mkdir -p out` makes `-p`)."""
 import glob
 import os
+import re
 import shutil
 import tempfile
 
@@ -9,6 +11,13 @@ import harness as h
 args = h.parse_args()
 examples = sorted(glob.glob(os.path.join(h.ROOT, "examples", "*", "in.*")))
 h.check(len(examples) >= 2, f"found {len(examples)} examples")
+
+# Every input script of the package: `shell mkdir` makes each of its words a directory.
+scripts = examples + glob.glob(os.path.join(h.ROOT, "bench", "inputs", "in.*")) + \
+    glob.glob(os.path.join(h.INPUTS, "in.*"))
+with_options = [s for s in scripts
+                if re.search(r"^\s*shell\s+mkdir\b.*\s-", open(s).read(), re.M)]
+h.check(not with_options, f"no input passes options to 'shell mkdir' ({with_options or 'none'})")
 for script in examples:
     name = os.path.basename(os.path.dirname(script))
     wd = tempfile.mkdtemp(prefix=f"example_{name}_")
@@ -28,3 +37,5 @@ for script in examples:
     h.check(len(pvd) == 1 and len(vtus) == steps // 1000 + 1, f"{name}: {len(vtus)} body frames + .pvd written")
     with open(pvd[0]) as f:
         h.check(f.read().count("<DataSet") == len(vtus), f"{name}: .pvd indexes every frame")
+    made = sorted(d for d in os.listdir(wd) if os.path.isdir(os.path.join(wd, d)))
+    h.check(made == ["out"], f"{name}: the run made only the directory out/ ({made})")

@@ -1,4 +1,6 @@
-"""Bad input stops with a clear error naming the command, keyword and what was expected."""
+"""Bad input stops with a clear error naming the command, keyword and what was expected; a body
+placed outside the box is refused, one that leaves it is refused (prescribed motion) or warned
+about (its own dynamics)."""
 import os
 import tempfile
 
@@ -58,6 +60,19 @@ cases = [
      "needs T > 0"),
     ("fix b all fem/vtk 10 out body nobody",
      "fem/vtk"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 rotate axis 0 0 0 angle 30",
+     "keyword 'rotate' got axis 0 0 0, expected a non-zero axis"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 plane axisymmetric",
+     "keyword 'plane' applies to 2D runs"),
+    # The box of in.fe_common is x -1 to 2 with fixed faces; the block spans 0 to 0.1.
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 move 1.95 0 0",
+     "in the box (x -1 to 2, y -1 to 1, z -1 to 1) reaches beyond its fixed x-high face"),
+    # Periodic in x (period 3): crossing the boundary is fine, being longer than the period not.
+    ("change_box all boundary p f f\n"
+     "fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 scale 31",
+     "is longer than its period in the periodic dimension x"),
+    ("timestep 1e-3\nfix b all fem/body file block.msh type 2 rigid yes motion linear 10 0 0\nrun 300",
+     "its prescribed 'motion' has carried it out of the box: the body (x 2 to 2.1"),
 ]
 big_dt = ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3", "exceeds the stable FE time step")
 
@@ -79,3 +94,18 @@ for line, expected in cases + [big_dt]:
     err = [l for l in out.splitlines() if "ERROR" in l]
     h.check(bool(err) and expected in err[0] and "fem/" in err[0],
             f"'{line.split('fem/')[1][:50]}...' -> {err[0].strip() if err else 'no ERROR line'}")
+
+# A deformable body that leaves the box by its own motion (here thrown at 8 km/s) is warned about
+# once, and the run goes on: only the part outside is out of the particles' reach.
+wd = tempfile.mkdtemp(prefix="errors_")
+h.make_box_mesh(os.path.join(wd, "block.msh"), (2, 2, 2), (0.1, 0.1, 0.1))
+h.copy_inputs(["in.fe_common"], wd)
+with open(os.path.join(wd, "in.case"), "w") as f:
+    f.write("include in.fe_common\ntimestep 1e-6\n"
+            "fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 "
+            "velocity all 8000 0 0\nrun 400\n")
+out = h.run(args.exe, "in.case", workdir=wd)
+warn = [l for l in out.splitlines() if "WARNING" in l and "out of the box" in l]
+h.check(len(warn) == 1 and "its nodes have moved out of the box" in warn[0]
+        and "fixed x-high face" in warn[0],
+        f"a deformable body leaving the box: one warning, the run goes on ({warn})")

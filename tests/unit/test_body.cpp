@@ -5,12 +5,14 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "contact/particle_facet.h"
 #include "fem/body.h"
 #include "fracture/nodal_fracture.h"
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 using namespace fracdem;
 
@@ -191,44 +193,45 @@ TEST(Body, RestartStateRestoresSplitTopologyExactly)
   EXPECT_THROW(c.unpack_state(buf.data()), std::runtime_error);
 }
 
+TEST(Body, MemoryBytesGrowsLinearlyWithTheElementCount)
+{
+  // Meshes of 6 n^3 tets: the bytes per element settle to a constant (the body is a few
+  // hundred bytes per element, whatever its size), well above the bare connectivity.
+  std::vector<double> per_elem;
+  for (int n : {4, 8, 16}) {
+    Body b;
+    b.build(make_box_tet_mesh(n, n, n, 1.0, 1.0, 1.0), steel(), false);
+    per_elem.push_back(static_cast<double>(b.memory_bytes()) / b.mesh().num_elems());
+  }
+  EXPECT_GT(per_elem[2], 16.0 * sizeof(double)); // more than 16 doubles per element
+  EXPECT_LT(per_elem[2], 1000.0);                // and a few hundred bytes at most
+  EXPECT_NEAR(per_elem[1] / per_elem[2], 1.0, 0.15);
+  // A split node adds a row to every nodal array: the count follows.
+  Body a = shaken_body(ElemType::Tri3);
+  const std::size_t before = a.memory_bytes();
+  const double normal[3] = {1, 0, 0};
+  a.split_node(a.plan_split(6, normal));
+  EXPECT_GT(a.memory_bytes(), before);
+}
+
+TEST(BodyMotion, ZeroRotationAxisIsRefusedNotTurnedIntoNaN)
+{
+  const double zero[3] = {0, 0, 0}, z[3] = {0, 0, 2}, nan[3] = {0, NAN, 1};
+  EXPECT_FALSE(valid_axis(zero));
+  EXPECT_FALSE(valid_axis(nan));
+  EXPECT_TRUE(valid_axis(z));
+  Mesh m = make_box_tet_mesh(1, 1, 1, 1.0, 1.0, 1.0);
+  MeshTransform rot{MeshTransform::Rotate, {0, 0, 0, 0.5}};
+  EXPECT_THROW(apply_transforms(m, {rot}), std::invalid_argument);
+  for (double c : m.X)
+    EXPECT_TRUE(std::isfinite(c));
+  rot.a[2] = 1; // about z: a valid rotation keeps z
+  EXPECT_TRUE(apply_transforms(m, {rot}));
+}
+
 /* ---------------------------------------------------------------------- */
 
-namespace
-{
-
-// One sphere (radius r, at q, velocity v) as host particle arrays.
-struct OneParticle {
-  double x[3], v[3] = {0, 0, 0}, omega[3] = {0, 0, 0}, f[3] = {0, 0, 0}, t[3] = {0, 0, 0};
-  double* px[1] = {x};
-  double* pv[1] = {v};
-  double* po[1] = {omega};
-  double* pf[1] = {f};
-  double* pt[1] = {t};
-  double radius, mass = 1.0;
-  int type = 1, mask = 1;
-  std::vector<double> hist = std::vector<double>(4 * kHistorySlotDoubles, -1.0);
-  double* ph[1] = {hist.data()};
-  ParticleArrays arrays()
-  {
-    ParticleArrays p;
-    p.n = 1;
-    p.x = px;
-    p.v = pv;
-    p.omega = po;
-    p.f = pf;
-    p.torque = pt;
-    p.radius = &radius;
-    p.rmass = &mass;
-    p.type = &type;
-    p.mask = &mask;
-    p.groupbit = 1;
-    p.history = ph;
-    p.slots = 4;
-    return p;
-  }
-};
-
-} // namespace
+using fracdem_test::OneParticle;
 
 TEST(ParticleFacet, SphereOnAMeshedPlaneGetsOneHertzContactAndBalancedReactions)
 {

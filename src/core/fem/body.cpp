@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -380,6 +381,58 @@ void Body::erode(const std::vector<int>& elems)
   for (int e : elems)
     mesh_.active[e] = 0;
   if (!elems.empty()) stars_.build(mesh_); // once per batch: a rebuild is a pass over the mesh
+}
+
+/* ----------------------------------------------------------------------
+   memory
+------------------------------------------------------------------------- */
+
+namespace
+{
+
+template <typename T> std::size_t vector_bytes(const std::vector<T>& v)
+{
+  return v.capacity() * sizeof(T);
+}
+
+// A std::map node: the key and value plus about four pointers of tree bookkeeping.
+std::size_t set_bytes(const std::map<std::string, std::vector<int>>& sets)
+{
+  std::size_t b = 0;
+  for (const auto& kv : sets)
+    b += sizeof(kv) + 4 * sizeof(void*) + kv.first.capacity() + vector_bytes(kv.second);
+  return b;
+}
+
+std::size_t mesh_bytes(const Mesh& m)
+{
+  return vector_bytes(m.X) + vector_bytes(m.etype) + vector_bytes(m.conn) + vector_bytes(m.active) +
+         vector_bytes(m.region) + set_bytes(m.node_sets) + set_bytes(m.elem_sets);
+}
+
+// FeSpace keeps its arrays private; they are counted from the layout documented in
+// fe_space.cpp: per element a block of 13 (tet4), 11 (tri3) or 56 (quad4) doubles, its reference
+// measure, and two int offsets (geometry block, material state).
+std::size_t fe_space_bytes(const Mesh& m)
+{
+  std::size_t doubles = 0;
+  for (ElemType t : m.etype)
+    doubles += (t == ElemType::Tet4 ? 13 : t == ElemType::Tri3 ? 11 : 56) + 1;
+  return doubles * sizeof(double) + 2 * (m.etype.size() + 1) * sizeof(int);
+}
+
+} // namespace
+
+std::size_t Body::memory_bytes() const
+{
+  std::size_t b = sizeof(*this) + mesh_bytes(mesh_) + fe_space_bytes(mesh_);
+  for (const std::vector<double>* v :
+       {&x_, &v_, &f_, &mass_, &inv_mass_, &f_contact_, &f_contact_prev_, &f_pending_,
+        &v_prescribed_, &ramp_, &reactions_, &state_})
+    b += vector_bytes(*v);
+  b += vector_bytes(bc_) + vector_bytes(held_) + vector_bytes(bc_group_) + vector_bytes(parent_);
+  b += vector_bytes(stars_.offset) + vector_bytes(stars_.elems);
+  return b;
 }
 
 /* ----------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -129,6 +130,11 @@ public:
   int damaged_points() const { return damaged_points_; }
   // Strain energy per element now (0 for eroded ones), without advancing any history.
   void element_energies(std::vector<double>& energy) const;
+
+  // Bytes this body holds on one rank (it is replicated on every rank): the capacities of its
+  // nodal, element, boundary-condition and material-state arrays, its mesh (with the named
+  // sets) and its precomputed element data. Grows when fracture splits nodes.
+  std::size_t memory_bytes() const;
 
   // ---- restart: the whole state including topology (split nodes, connectivity, activity) ----
   void pack_state(std::vector<double>& buf) const;

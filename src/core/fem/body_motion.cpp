@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace fracdem
 {
@@ -18,10 +19,18 @@ void rotate_about_axis(const double axis_in[3], double angle, const double p[3],
     out[d] = p[d] * c + kxp[d] * s + k[d] * kdotp * (1 - c);
 }
 
+bool valid_axis(const double axis[3])
+{
+  const double n2 = axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2];
+  return std::isfinite(n2) && n2 > 0;
+}
+
 bool apply_transforms(Mesh& mesh, const std::vector<MeshTransform>& transforms)
 {
   const int nn = mesh.num_nodes();
   for (const MeshTransform& t : transforms) {
+    if (t.kind == MeshTransform::Rotate && !valid_axis(t.a))
+      throw std::invalid_argument("rotate: the axis has zero length (or is not finite)");
     for (int i = 0; i < nn; ++i) {
       double* p = &mesh.X[3 * i];
       if (t.kind == MeshTransform::Scale) {

@@ -10,6 +10,9 @@ namespace fracdem
 
 // Rodrigues' rotation of p by `angle` (radians) about the axis direction `axis` (any length > 0).
 void rotate_about_axis(const double axis[3], double angle, const double p[3], double out[3]);
+// True when `axis` defines a direction: finite components, non-zero length. A zero axis would
+// turn every rotated coordinate into NaN (0 / 0 in the normalisation).
+bool valid_axis(const double axis[3]);
 
 // One placement step applied to the reference coordinates when a body is created.
 struct MeshTransform {
@@ -17,6 +20,7 @@ struct MeshTransform {
   double a[4]; // Scale: factor; Move: dx dy dz; Rotate: axis ax ay az, angle (radians)
 };
 // Applies the transforms in order to mesh.X. Returns false when a 2D mesh leaves the z = 0 plane.
+// Throws std::invalid_argument for a Rotate whose axis is not valid_axis().
 bool apply_transforms(Mesh& mesh, const std::vector<MeshTransform>& transforms);
 
 // Prescribed motion of a rigid body: at rest, constant velocity, or steady rotation about an axis.
