@@ -3,6 +3,8 @@
 #include "fix_balance_graph.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -113,11 +115,13 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
   }
   if (strcmp(arg[1], "all") != 0) fail("group must be 'all' (every particle is balanced)");
   char* end = nullptr;
-  check_every_ = static_cast<int>(strtol(arg[3], &end, 10));
-  if (*end || check_every_ <= 0)
+  errno = 0;
+  const long long every = strtoll(arg[3], &end, 10);
+  check_every_ = every > 0 && every <= INT_MAX ? static_cast<int>(every) : 0; // no silent wrap
+  if (end == arg[3] || *end || errno == ERANGE || check_every_ <= 0)
     fail(std::string("Nevery must be a positive integer, got '") + arg[3] + "'");
   threshold_ = strtod(arg[4], &end);
-  if (*end || !(threshold_ >= 1.0))
+  if (end == arg[4] || *end || !std::isfinite(threshold_) || !(threshold_ >= 1.0))
     fail(std::string("thresh must be a number >= 1.0 (max/avg work), got '") + arg[4] + "'");
 
   std::vector<std::string> seen;

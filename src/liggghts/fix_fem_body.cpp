@@ -3,6 +3,8 @@
 #include "fix_fem_body.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -52,10 +54,6 @@ const std::map<std::string, fracdem::PlaneMode> kPlaneModeTable = {
     {"strain", fracdem::PlaneMode::PlaneStrain},
     {"axisymmetric", fracdem::PlaneMode::Axisymmetric},
     {"stress", fracdem::PlaneMode::PlaneStress},
-};
-const std::map<std::string, fracdem::Softening> kSofteningTable = {
-    {"linear", fracdem::Softening::Linear},
-    {"exponential", fracdem::Softening::Exponential},
 };
 
 template <typename T>
@@ -146,6 +144,35 @@ int FixFemBody::setmask()
    argument parsing: fix ID group fem/body file FILE keyword value ...
 ------------------------------------------------------------------------- */
 
+// The value of `keyword`: a finite number written in full ("1e999", "abc", "2x" are refused by
+// keyword, where the host's numeric() names neither the fix nor the keyword).
+double FixFemBody::number(const char* keyword, const char* word)
+{
+  char* end = nullptr;
+  errno = 0;
+  const double v = strtod(word, &end);
+  if (end == word || *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
+    const std::string msg = std::string(kStyle) + ": keyword '" + keyword +
+                            "' expects a finite number, got '" + word + "'";
+    error->all(FLERR, msg.c_str());
+  }
+  return v;
+}
+
+// The value of `keyword`: an integer that fits an int.
+int FixFemBody::whole_number(const char* keyword, const char* word)
+{
+  char* end = nullptr;
+  errno = 0;
+  const long long v = strtoll(word, &end, 10);
+  if (end == word || *end != '\0' || errno == ERANGE || v < INT_MIN || v > INT_MAX) {
+    const std::string msg =
+        std::string(kStyle) + ": keyword '" + keyword + "' expects an integer, got '" + word + "'";
+    error->all(FLERR, msg.c_str());
+  }
+  return static_cast<int>(v);
+}
+
 void FixFemBody::parse_arguments(int narg, char** arg)
 {
   auto need = [&](int iarg, int n, const char* keyword, const char* what) {
@@ -174,21 +201,21 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     const char* kw = arg[iarg];
     if (!strcmp(kw, "type")) {
       need(iarg, 1, kw, "an atom type");
-      surface_type_ = force->inumeric(FLERR, arg[iarg + 1]);
+      surface_type_ = whole_number(arg[iarg], arg[iarg + 1]);
       iarg += 2;
     } else if (!strcmp(kw, "density")) {
       need(iarg, 1, kw, "a value");
-      material_.rho = force->numeric(FLERR, arg[iarg + 1]);
+      material_.rho = number(arg[iarg], arg[iarg + 1]);
       have_density_ = true;
       iarg += 2;
     } else if (!strcmp(kw, "youngs")) {
       need(iarg, 1, kw, "a value");
-      material_.E = force->numeric(FLERR, arg[iarg + 1]);
+      material_.E = number(arg[iarg], arg[iarg + 1]);
       have_youngs_ = true;
       iarg += 2;
     } else if (!strcmp(kw, "poisson")) {
       need(iarg, 1, kw, "a value");
-      material_.nu = force->numeric(FLERR, arg[iarg + 1]);
+      material_.nu = number(arg[iarg], arg[iarg + 1]);
       have_poisson_ = true;
       iarg += 2;
     } else if (!strcmp(kw, "model")) {
@@ -202,7 +229,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 2;
     } else if (!strcmp(kw, "thickness")) {
       need(iarg, 1, kw, "a value");
-      material_.thickness = force->numeric(FLERR, arg[iarg + 1]);
+      material_.thickness = number(arg[iarg], arg[iarg + 1]);
       if (material_.thickness <= 0)
         error->all(FLERR, "fix fem/body: keyword 'thickness' must be > 0");
       iarg += 2;
@@ -219,7 +246,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       NodeVelocitySpec s;
       s.set = arg[iarg + 1];
       for (int d = 0; d < 3; ++d)
-        s.v[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
+        s.v[d] = number(arg[iarg], arg[iarg + 2 + d]);
       iarg += 5;
       if (kw[0] == 'v') {
         initial_velocity_.push_back(s);
@@ -227,7 +254,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       }
       s.group = reaction_group(s.set);
       if (iarg + 1 < narg && !strcmp(arg[iarg], "ramp")) {
-        s.ramp = force->numeric(FLERR, arg[iarg + 1]);
+        s.ramp = number(arg[iarg], arg[iarg + 1]);
         if (s.ramp <= 0)
           error->all(FLERR, "fix fem/body: keyword 'prescribed_velocity ... ramp T' needs T > 0");
         iarg += 2;
@@ -236,7 +263,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     } else if (!strcmp(kw, "scale")) {
       need(iarg, 1, kw, "a factor");
       fracdem::MeshTransform t{fracdem::MeshTransform::Scale,
-                               {force->numeric(FLERR, arg[iarg + 1]), 0, 0, 0}};
+                               {number(arg[iarg], arg[iarg + 1]), 0, 0, 0}};
       if (t.a[0] <= 0) error->all(FLERR, "fix fem/body: keyword 'scale' must be > 0");
       transforms_.push_back(t);
       iarg += 2;
@@ -244,7 +271,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       need(iarg, 3, kw, "dx dy dz");
       fracdem::MeshTransform t{fracdem::MeshTransform::Move, {0, 0, 0, 0}};
       for (int d = 0; d < 3; ++d)
-        t.a[d] = force->numeric(FLERR, arg[iarg + 1 + d]);
+        t.a[d] = number(arg[iarg], arg[iarg + 1 + d]);
       transforms_.push_back(t);
       iarg += 4;
     } else if (!strcmp(kw, "rotate")) {
@@ -253,8 +280,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
         error->all(FLERR, "fix fem/body: keyword 'rotate' expects 'axis ax ay az angle DEGREES'");
       fracdem::MeshTransform t{fracdem::MeshTransform::Rotate, {0, 0, 0, 0}};
       for (int d = 0; d < 3; ++d)
-        t.a[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
-      t.a[3] = force->numeric(FLERR, arg[iarg + 6]) * M_PI / 180.0;
+        t.a[d] = number(arg[iarg], arg[iarg + 2 + d]);
+      t.a[3] = number(arg[iarg], arg[iarg + 6]) * M_PI / 180.0;
       if (!fracdem::valid_axis(t.a)) {
         const std::string msg = std::string(kStyle) + ": keyword 'rotate' got axis " +
                                 arg[iarg + 2] + " " + arg[iarg + 3] + " " + arg[iarg + 4] +
@@ -270,6 +297,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       parse_motion(narg, arg, iarg);
     } else if (!strcmp(kw, "material")) {
       parse_material(narg, arg, iarg);
+    } else if (!strcmp(kw, "eos")) {
+      parse_eos(narg, arg, iarg);
     } else if (!strcmp(kw, "fracture")) {
       parse_fracture(narg, arg, iarg);
     } else if (!strcmp(kw, "contact_model")) {
@@ -284,7 +313,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 2;
     } else if (!strcmp(kw, "buffer")) {
       need(iarg, 1, kw, "a distance");
-      buffer_ = force->numeric(FLERR, arg[iarg + 1]);
+      buffer_ = number(arg[iarg], arg[iarg + 1]);
       if (buffer_ < 0) error->all(FLERR, "fix fem/body: keyword 'buffer' must be >= 0");
       iarg += 2;
     } else if (!strcmp(kw, "dt_check")) {
@@ -296,7 +325,7 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     } else if (!strcmp(kw, "energy_file")) {
       need(iarg, 2, kw, "FILE N");
       energy_file_ = arg[iarg + 1];
-      energy_every_ = force->inumeric(FLERR, arg[iarg + 2]);
+      energy_every_ = whole_number(arg[iarg], arg[iarg + 2]);
       if (energy_every_ <= 0) error->all(FLERR, "fix fem/body: keyword 'energy_file' needs N > 0");
       iarg += 3;
     } else if (!strcmp(kw, "contact_bodies")) {
@@ -304,14 +333,17 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       iarg += 2;
     } else if (!strcmp(kw, "contact_penalty")) {
       need(iarg, 1, kw, "a factor");
-      contact_penalty_ = force->numeric(FLERR, arg[iarg + 1]);
+      contact_penalty_ = number(arg[iarg], arg[iarg + 1]);
       if (contact_penalty_ <= 0)
         error->all(FLERR, "fix fem/body: keyword 'contact_penalty' must be > 0");
       iarg += 2;
     } else if (!strcmp(kw, "history_slots")) {
       need(iarg, 1, kw, "a count");
-      nslots_ = force->inumeric(FLERR, arg[iarg + 1]);
-      if (nslots_ < 1) error->all(FLERR, "fix fem/body: keyword 'history_slots' must be >= 1");
+      nslots_ = whole_number(arg[iarg], arg[iarg + 1]);
+      // A particle touches a handful of facet features at once; beyond this it is a typo (the
+      // history array is per particle and would eat memory).
+      if (nslots_ < 1 || nslots_ > kMaxHistorySlots)
+        error->all(FLERR, "fix fem/body: keyword 'history_slots' expects 1 .. 64");
       iarg += 2;
     } else {
       std::string msg = std::string(kStyle) + ": unknown keyword '" + kw + "'";
@@ -335,7 +367,7 @@ void FixFemBody::parse_motion(int narg, char** arg, int& iarg)
     need(4, "linear vx vy vz");
     motion_.kind = fracdem::RigidMotion::Linear;
     for (int d = 0; d < 3; ++d)
-      motion_.velocity[d] = force->numeric(FLERR, arg[iarg + 2 + d]);
+      motion_.velocity[d] = number(arg[iarg], arg[iarg + 2 + d]);
     iarg += 5;
   } else if (!strcmp(arg[iarg + 1], "rotate")) {
     need(10, "rotate origin ox oy oz axis ax ay az period T");
@@ -345,10 +377,10 @@ void FixFemBody::parse_motion(int narg, char** arg, int& iarg)
                         "ay az period T'");
     motion_.kind = fracdem::RigidMotion::Rotate;
     for (int d = 0; d < 3; ++d) {
-      motion_.origin[d] = force->numeric(FLERR, arg[iarg + 3 + d]);
-      motion_.axis[d] = force->numeric(FLERR, arg[iarg + 7 + d]);
+      motion_.origin[d] = number(arg[iarg], arg[iarg + 3 + d]);
+      motion_.axis[d] = number(arg[iarg], arg[iarg + 7 + d]);
     }
-    motion_.period = force->numeric(FLERR, arg[iarg + 11]);
+    motion_.period = number(arg[iarg], arg[iarg + 11]);
     double* k = motion_.axis;
     const double n = std::sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
     if (!fracdem::valid_axis(k) || motion_.period == 0)
@@ -361,43 +393,39 @@ void FixFemBody::parse_motion(int narg, char** arg, int& iarg)
   }
 }
 
-// material MODEL [model arguments]: the model from the core's material table.
+// A core parser's "material rankine: strength: ..." as "keyword 'material rankine': strength: ...".
+static std::string keyword_error(const std::string& err)
+{
+  const std::size_t colon = err.find(':');
+  if (colon == std::string::npos) return "keyword " + err;
+  return "keyword '" + err.substr(0, colon) + "'" + err.substr(colon);
+}
+
+// material MODEL [model arguments]: the model and its constants are read by the core's material
+// table; the adapter only hands over the words up to the next fix fem/body keyword.
 void FixFemBody::parse_material(int narg, char** arg, int& iarg)
 {
-  std::string models;
-  for (const auto& m : fracdem::material_models())
-    models +=
-        std::string(models.empty() ? "" : " | ") + m.keyword + (*m.syntax ? " " : "") + m.syntax;
-  const fracdem::MaterialModelInfo* info =
-      iarg + 1 < narg ? fracdem::find_material_model(arg[iarg + 1]) : nullptr;
-  if (!info) {
-    const std::string msg = std::string(kStyle) + ": keyword 'material' expects " + models;
+  std::vector<std::string> words(arg + iarg + 1, arg + narg);
+  std::size_t used = 0;
+  const std::string err = fracdem::parse_material_arguments(words, material_, &used);
+  if (!err.empty()) {
+    const std::string msg = std::string(kStyle) + ": " + keyword_error(err);
     error->all(FLERR, msg.c_str());
   }
-  material_.model = info->model;
-  iarg += 2;
-  bool have_ft = false, have_gf = false;
-  while (material_.model == fracdem::MaterialModel::Rankine && iarg + 1 < narg) {
-    const char* sub = arg[iarg];
-    if (!strcmp(sub, "strength")) {
-      material_.ft = force->numeric(FLERR, arg[iarg + 1]);
-      have_ft = true;
-    } else if (!strcmp(sub, "fracture_energy")) {
-      material_.gf = force->numeric(FLERR, arg[iarg + 1]);
-      have_gf = true;
-    } else if (!strcmp(sub, "softening")) {
-      material_.softening =
-          lookup(error, kSofteningTable, "material rankine softening", arg[iarg + 1]);
-    } else {
-      break;
-    }
-    iarg += 2;
-  }
-  if (material_.model == fracdem::MaterialModel::Rankine && !(have_ft && have_gf)) {
-    const std::string msg = std::string(kStyle) + ": keyword 'material rankine' expects " +
-                            info->syntax + " (strength and fracture_energy are required)";
+  iarg += 1 + static_cast<int>(used);
+}
+
+// eos linear | mie_gruneisen C0 S GAMMA0 (pressure of a plastic material)
+void FixFemBody::parse_eos(int narg, char** arg, int& iarg)
+{
+  std::vector<std::string> words(arg + iarg + 1, arg + narg);
+  std::size_t used = 0;
+  const std::string err = fracdem::parse_eos_arguments(words, material_, &used);
+  if (!err.empty()) {
+    const std::string msg = std::string(kStyle) + ": " + keyword_error(err);
     error->all(FLERR, msg.c_str());
   }
+  iarg += 1 + static_cast<int>(used);
 }
 
 // fracture nodal [every N]
@@ -409,7 +437,7 @@ void FixFemBody::parse_fracture(int narg, char** arg, int& iarg)
   iarg += 2;
   while (iarg + 1 < narg) {
     if (!strcmp(arg[iarg], "every")) {
-      fracture_every_ = force->inumeric(FLERR, arg[iarg + 1]);
+      fracture_every_ = whole_number(arg[iarg], arg[iarg + 1]);
       if (fracture_every_ < 1)
         error->all(FLERR, "fix fem/body: keyword 'fracture nodal every' expects N >= 1");
     } else if (!strcmp(arg[iarg], "erode_cracked")) {
@@ -509,6 +537,18 @@ void FixFemBody::load_mesh()
   }
   if (!fracdem::apply_transforms(mesh, transforms_))
     error->all(FLERR, "fix fem/body: 2D mesh must stay in the z = 0 plane after 'move'/'rotate'");
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (!fracdem::element_geometry_finite(mesh, e)) {
+      const std::string msg = std::string(kStyle) + " " + id +
+                              ": keyword 'scale'/'move'/'rotate': element " + std::to_string(e) +
+                              " of '" + mesh_file_ + "' overflows double precision";
+      error->all(FLERR, msg.c_str());
+    }
+  const std::string material_error = fracdem::material_setup_error(material_, mesh.dim);
+  if (!material_error.empty()) {
+    const std::string msg = std::string(kStyle) + " " + id + ": " + material_error;
+    error->all(FLERR, msg.c_str());
+  }
 
   try {
     body_.build(std::move(mesh), material_, rigid_);

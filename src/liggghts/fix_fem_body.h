@@ -89,6 +89,10 @@ private:
   void parse_arguments(int narg, char** arg);
   void parse_motion(int narg, char** arg, int& iarg);
   void parse_material(int narg, char** arg, int& iarg);
+  void parse_eos(int narg, char** arg, int& iarg);
+  double number(const char* keyword, const char* word);
+  int whole_number(const char* keyword, const char* word);
+  static constexpr int kMaxHistorySlots = 64;
   void parse_fracture(int narg, char** arg, int& iarg);
   void check_arguments();
   void load_mesh();

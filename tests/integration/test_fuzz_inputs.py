@@ -343,14 +343,14 @@ fem_cases = [
     ("fem_no_args", "fix b all fem/body", None),
     ("fem_file_no_name", "fix b all fem/body file", None),
     ("fem_file_keyword_cut", FEM_OK.replace(" file ", " fil "), None),
-    ("fem_type_abc", FEM_OK.replace("type 2", "type abc"), "'type'"),  # needs adapter fix
+    ("fem_type_abc", FEM_OK.replace("type 2", "type abc"), "'type'"),
     ("fem_type_zero", FEM_OK.replace("type 2", "type 0"), None),
     ("fem_type_huge", FEM_OK.replace("type 2", "type 99999999999"), None),
-    ("fem_density_abc", FEM_OK.replace("density 7800", "density abc"), "'density'"),  # needs adapter fix
+    ("fem_density_abc", FEM_OK.replace("density 7800", "density abc"), "'density'"),
     ("fem_density_negative", FEM_OK.replace("density 7800", "density -1"), None),
     ("fem_density_zero", FEM_OK.replace("density 7800", "density 0"), None),
     ("fem_density_tiny", FEM_OK.replace("density 7800", "density 1e-300"), None),
-    ("fem_youngs_overflow", FEM_OK.replace("youngs 2e11", "youngs 1e999"), "'youngs'"),  # needs adapter fix
+    ("fem_youngs_overflow", FEM_OK.replace("youngs 2e11", "youngs 1e999"), "'youngs'"),
     ("fem_youngs_huge", FEM_OK.replace("youngs 2e11", "youngs 1e300"), None),
     ("fem_poisson_missing_value", FEM_OK.replace(" 0.3", ""), None),
     ("fem_density_repeated", FEM_OK + " density 1000", None),  # last one wins, like LAMMPS fixes
@@ -361,14 +361,14 @@ fem_cases = [
     ("fem_fixed_no_value", FEM_OK + " fixed", None),
     ("fem_fixed_empty_name", FEM_OK + ' fixed ""', None),
     ("fem_scale_zero", FEM_OK + " scale 0", None),
-    ("fem_scale_huge", FEM_OK + " scale 1e300", "keyword 'scale'"),  # needs adapter fix
+    ("fem_scale_huge", FEM_OK + " scale 1e300", "keyword 'scale'"),
     ("fem_rotate_cut", FEM_OK + " rotate axis 0 0 1 angle", None),
     ("fem_motion_zero_period",
      "fix b all fem/body file block.msh type 2 rigid yes motion rotate origin 0 0 0 axis 0 0 1 period 0", None),
     ("fem_material_strength_abc",
-     FEM_OK + " material rankine strength abc fracture_energy 100", "'material rankine'"),  # needs adapter fix
+     FEM_OK + " material rankine strength abc fracture_energy 100", "'material rankine'"),
     ("fem_fracture_every_abc",
-     FEM_OK + " material rankine strength 3e6 fracture_energy 100 fracture nodal every abc", "'every'"),  # needs adapter fix
+     FEM_OK + " material rankine strength 3e6 fracture_energy 100 fracture nodal every abc", "'every'"),
     ("fem_energy_file_no_n", FEM_OK + " energy_file e.csv", None),
     ("fem_thickness_negative", FEM_OK + " thickness -1", None),
     ("fem_buffer_negative", FEM_OK + " buffer -0.1", None),
@@ -377,7 +377,7 @@ fem_cases = [
     ("fem_unknown_fix_group", FEM_OK.replace(" all ", " nosuch "), HOST_GROUP_ERROR),
     # history_slots N allocates N * 5 doubles per particle; 2e9 wraps the int product and takes
     # ~2 GB here (13 GB with one particle). Run only with FRACDEM_FUZZ_HEAVY=1 until refused.
-    ("fem_history_slots_huge", FEM_OK + " history_slots 2000000000", "'history_slots'"),  # needs adapter fix
+    ("fem_history_slots_huge", FEM_OK + " history_slots 2000000000", "'history_slots'"),
 ]
 BAL_OK = "fix bal all balance/graph 10 1.1 cost counts"
 bal_cases = [
@@ -386,8 +386,8 @@ bal_cases = [
     ("bal_nevery_abc", "fix bal all balance/graph abc 1.1", None),
     ("bal_nevery_negative", "fix bal all balance/graph -5 1.1", None),
     # strtol's long is cast to int: 4294967297 becomes Nevery 1, 99999999999 becomes 1215752191.
-    ("bal_nevery_wraps", "fix bal all balance/graph 4294967297 1.1 cost counts", "Nevery"),  # needs adapter fix
-    ("bal_nevery_huge", "fix bal all balance/graph 99999999999 1.1 cost counts", "Nevery"),  # needs adapter fix
+    ("bal_nevery_wraps", "fix bal all balance/graph 4294967297 1.1 cost counts", "Nevery"),
+    ("bal_nevery_huge", "fix bal all balance/graph 99999999999 1.1 cost counts", "Nevery"),
     ("bal_nevery_float", "fix bal all balance/graph 2.5 1.1", None),
     ("bal_thresh_abc", "fix bal all balance/graph 10 abc", None),
     ("bal_thresh_nan", "fix bal all balance/graph 10 nan", None),
@@ -405,12 +405,10 @@ bal_cases = [
 # Adapter-side problems this test found that only fix_fem_body.cpp / fix_balance_graph.cpp can
 # fix (see the '# needs adapter fix' comments above): reported as KNOWN, not failed on. Drop a
 # name once its case passes (the test then says so).
-NEEDS_ADAPTER_FIX = {  # needs adapter fix
-    "fem_type_abc", "fem_density_abc", "fem_youngs_overflow", "fem_scale_huge",
-    "fem_material_strength_abc", "fem_fracture_every_abc", "fem_history_slots_huge",
-    "bal_nevery_wraps", "bal_nevery_huge",
-}
-HEAVY = {"fem_history_slots_huge"}
+# Cases that once needed an adapter fix (the host's numeric() named neither fix nor keyword,
+# overflows and wrapped integers were accepted); all fixed, kept empty for the next finding.
+NEEDS_ADAPTER_FIX = set()
+HEAVY = set()  # cases that allocate gigabytes when they are not refused
 RUN_HEAVY = os.environ.get("FRACDEM_FUZZ_HEAVY") == "1"
 
 FEM_SCENE = """# fuzz case: one fix fem/body line (substituted) on the valid box and one falling sphere
