@@ -9,6 +9,7 @@
 #include "contact/contact_search.h"
 #include "contact/geometry.h"
 #include "contact/granular_law.h"
+#include "contact/particle_facet.h"
 #include "io/mesh_generators.h"
 
 using namespace fracdem;
@@ -53,6 +54,156 @@ TEST(ContactGeometry, ClosestPointTriangleMatchesDenseSampling)
   ClosestPoint cv = closest_point_triangle(qv, a, b, c);
   EXPECT_EQ(cv.kind, Feature::Vertex);
   EXPECT_EQ(cv.local, 0);
+}
+
+// The culling bound of particle-facet contact must never exceed the exact distance (a facet it
+// drops would have been rejected by the closest point), on ordinary triangles, slivers,
+// degenerate triangles, segments and far from the origin; and it must be tight enough to cull.
+TEST(ContactGeometry, FacetDistanceBoundNeverExceedsTheClosestPoint)
+{
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> U(-1, 1), L(-3, 1);
+  int tight = 0, far = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int shape = trial % 5; // 0 any, 1 sliver, 2 degenerate, 3 segment, 4 tiny and far
+    const double offset = shape == 4 ? 1e4 : 0.0, size = shape == 4 ? 1e-3 : 1.0;
+    double a[3], b[3], c[3], q[3];
+    for (int d = 0; d < 3; ++d) {
+      a[d] = offset + size * U(rng);
+      b[d] = offset + size * U(rng);
+      c[d] = offset + size * U(rng);
+      q[d] = a[d] + size * U(rng) * std::pow(10.0, L(rng));
+    }
+    if (shape == 1 || shape == 2) { // c on (or within 1e-9 of) the line ab
+      const double t = U(rng), eps = shape == 1 ? 1e-9 : 0.0;
+      for (int d = 0; d < 3; ++d)
+        c[d] = a[d] + t * (b[d] - a[d]) + eps * U(rng);
+    }
+    if (shape == 3) a[2] = b[2] = q[2] = 0;
+    const FacetBound f = facet_bound(a, b, shape == 3 ? nullptr : c);
+    const double exact = std::sqrt(shape == 3 ? closest_point_segment(q, a, b).dist2
+                                              : closest_point_triangle(q, a, b, c).dist2);
+    const double bound = facet_distance_bound(f, q);
+    ASSERT_LE(bound, exact) << "trial " << trial << " shape " << shape;
+    if (exact > 4 * f.radius) {
+      ++far;
+      tight += bound >= exact - 2.5 * f.radius;
+    }
+  }
+  EXPECT_GT(far, 1000);
+  EXPECT_EQ(tight, far); // |q - c| - sqrt(2) radius, minus the facet's own extent
+}
+
+namespace
+{
+// Particles (one row each, as a host keeps them) around a curved shell: a tet slab bent into a
+// half cylinder of radius about 1, so that every sphere sees many facets at slight angles.
+struct Cloud {
+  std::vector<std::array<double, 3>> x, v, omega, f, torque;
+  std::vector<double*> px, pv, pomega, pf, ptorque;
+  std::vector<double> radius, mass;
+  std::vector<int> type, mask;
+  ParticleArrays arrays()
+  {
+    const int n = static_cast<int>(x.size());
+    px.resize(n), pv.resize(n), pomega.resize(n), pf.resize(n), ptorque.resize(n);
+    for (int i = 0; i < n; ++i) {
+      px[i] = x[i].data(), pv[i] = v[i].data(), pomega[i] = omega[i].data();
+      pf[i] = f[i].data(), ptorque[i] = torque[i].data();
+    }
+    ParticleArrays p;
+    p.n = n;
+    p.x = px.data(), p.v = pv.data(), p.omega = pomega.data(), p.f = pf.data();
+    p.torque = ptorque.data();
+    p.radius = radius.data(), p.rmass = mass.data(), p.type = type.data(), p.mask = mask.data();
+    return p;
+  }
+};
+
+Mesh bent_shell()
+{
+  Mesh mesh = make_box_tet_mesh(24, 8, 1, 3.0, 1.0, 0.1);
+  for (int k = 0; k < mesh.num_nodes(); ++k) {
+    double* X = &mesh.X[3 * k];
+    const double th = X[0], rad = 1.0 + X[2];
+    X[0] = rad * std::cos(th);
+    X[2] = rad * std::sin(th);
+  }
+  return mesh;
+}
+
+// Resolved contacts of a sphere with every facet, without search or culling.
+int brute_force_contacts(const std::vector<Facet>& facets, const SurfaceTopology& topo,
+                         const double* x, const double q[3], double r)
+{
+  std::vector<FacetHit> hits;
+  for (int k = 0; k < static_cast<int>(facets.size()); ++k) {
+    const Facet& fc = facets[k];
+    FacetHit h;
+    h.facet = k;
+    h.nn = 3;
+    for (int j = 0; j < 3; ++j)
+      h.nodes[j] = fc.n[j];
+    h.cp = closest_point_triangle(q, &x[3 * fc.n[0]], &x[3 * fc.n[1]], &x[3 * fc.n[2]]);
+    if (h.cp.dist2 < r * r) hits.push_back(h);
+  }
+  return hits.empty() ? 0 : static_cast<int>(resolve_sphere_hits(hits, q, x, topo).size());
+}
+} // namespace
+
+// The pipeline culls candidates at the search build (r + sqrt(3) buffer) and every step (their
+// bounds against r + sphere travel + node travel): on moving spheres and a deforming body it must
+// find exactly the contacts of the brute force, and skip most exact tests.
+TEST(ContactSearch, CulledContactsEqualBruteForceOnACurvedMovingSurface)
+{
+  const Mesh mesh = bent_shell();
+  const auto facets = boundary_facets(mesh);
+  SurfaceTopology topo;
+  topo.build(facets, mesh.num_nodes());
+  ParticleFacetContact contact;
+  ParticleFacetOptions opt;
+  opt.buffer = 0.02;
+  opt.tangential_history = false;
+  contact.configure(opt);
+  contact.set_materials({ContactMaterial{},
+                         mix_materials(1e7, 0.3, 1e7, 0.3, 0.9, 0.5, 1, NormalModel::Hertz, true)});
+  contact.rebuild_surface(mesh);
+
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(-1, 1), R(0.02, 0.08), step(-0.003, 0.003);
+  Cloud cloud;
+  for (int i = 0; i < 400; ++i) { // within 0.1 of the inner or outer face
+    const double th = 1.5 + 1.5 * U(rng), rad = (i % 2 ? 0.95 : 1.15) + 0.1 * U(rng);
+    cloud.x.push_back({rad * std::cos(th), 0.5 + 0.55 * U(rng), rad * std::sin(th)});
+    cloud.radius.push_back(R(rng));
+    cloud.mass.push_back(1.0);
+    cloud.type.push_back(1);
+    cloud.mask.push_back(1);
+  }
+  const int n = static_cast<int>(cloud.x.size());
+  cloud.v = cloud.omega = cloud.f = cloud.torque = std::vector<std::array<double, 3>>(n);
+  std::vector<double> x = mesh.X, v(x.size(), 0.0), fn(x.size(), 0.0);
+  long long exact_tests = 0, contacts = 0;
+  for (int it = 0; it < 60; ++it) {
+    contact.evaluate(cloud.arrays(), mesh.X.data(), x.data(), v.data(), 1e-6, fn.data());
+    for (int i = 0; i < n; ++i) {
+      const int expect =
+          brute_force_contacts(facets, topo, x.data(), cloud.x[i].data(), cloud.radius[i]);
+      ASSERT_EQ(contact.contacts()[i], expect) << "particle " << i << " at step " << it;
+      contacts += expect;
+      exact_tests += contact.checks()[i];
+    }
+    for (auto& q : cloud.x) // spheres drift; the search rebuilds now and then
+      for (double& c : q)
+        c += step(rng);
+    if (it < 30) // the body deforms, then rests (its facet bounds are kept across builds)
+      for (double& c : x)
+        c += 0.2 * step(rng);
+  }
+  EXPECT_GT(contacts, 1000);
+  EXPECT_GT(contact.search_rebuilds(), 2);
+  EXPECT_LT(contact.search_rebuilds(), 60);
+  EXPECT_LT(exact_tests, 60LL * n * static_cast<long long>(facets.size()) / 100);
 }
 
 TEST(ContactLaw, HertzNormalForceAndDamping)

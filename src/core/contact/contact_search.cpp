@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fracdem
 {
@@ -82,7 +83,8 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
   };
   // Counting sort of facets into every bin their inflated box touches.
   bin_start_.assign(total + 1, 0);
-  std::vector<int> rng(6 * nf);
+  std::vector<int>& rng = ranges_; // scratch kept between builds: no allocation per build
+  rng.resize(6 * nf);
   for (int f = 0; f < nf; ++f) {
     int* r = &rng[6 * f];
     bool inside = true;
@@ -103,7 +105,8 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
   for (long long b = 0; b < total; ++b)
     bin_start_[b + 1] += bin_start_[b];
   bin_items_.assign(bin_start_[total], 0);
-  std::vector<int> fill(bin_start_.begin(), bin_start_.end() - 1);
+  std::vector<int>& fill = fill_;
+  fill.assign(bin_start_.begin(), bin_start_.end() - 1);
   for (int f = 0; f < nf; ++f) {
     const int* r = &rng[6 * f];
     if (r[0] > r[1]) continue;
@@ -113,7 +116,7 @@ void BufferedSearch::build(const std::vector<Aabb>& boxes, const double* sxr, in
           bin_items_[fill[(static_cast<long long>(k) * n[1] + j) * n[0] + i]++] = f;
   }
   stamp_.assign(nf, -1);
-  std::vector<int> found;
+  std::vector<int>& found = found_;
   for (int s = 0; s < ns; ++s) {
     const double* c = sxr + 4 * s;
     const double rs = c[3] + hb;
@@ -148,15 +151,30 @@ void BufferedSearch::remember_positions(const double* node_x, int nnodes, const 
 bool BufferedSearch::needs_rebuild(const double* node_x, int nnodes, const double* sphere_x,
                                    int ns) const
 {
-  if (static_cast<int>(node_x0_.size()) != 3 * nnodes ||
-      static_cast<int>(sphere_x0_.size()) != 3 * ns)
-    return true;
-  double dn = 0, ds = 0;
-  for (int k = 0; k < 3 * nnodes; ++k)
-    dn = std::max(dn, std::fabs(node_x[k] - node_x0_[k]));
+  if (static_cast<int>(sphere_x0_.size()) != 3 * ns) return true;
+  const double dn = node_travel(node_x, nnodes);
+  double ds = 0;
   for (int k = 0; k < 3 * ns; ++k)
     ds = std::max(ds, std::fabs(sphere_x[k] - sphere_x0_[k]));
   return dn + ds > buffer_;
+}
+
+double BufferedSearch::node_travel(const double* node_x, int nnodes, double* node_shift) const
+{
+  if (static_cast<int>(node_x0_.size()) != 3 * nnodes)
+    return std::numeric_limits<double>::infinity();
+  double dn = 0, shift2 = 0;
+  for (int v = 0; v < nnodes; ++v) {
+    double l2 = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double u = node_x[3 * v + d] - node_x0_[3 * v + d];
+      dn = std::max(dn, std::fabs(u));
+      l2 += u * u;
+    }
+    shift2 = std::max(shift2, l2);
+  }
+  if (node_shift) *node_shift = std::sqrt(shift2) * (1 + 1e-12);
+  return dn;
 }
 
 } // namespace fracdem

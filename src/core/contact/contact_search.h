@@ -1,6 +1,7 @@
 // Buffer-zone candidate search between spheres and facets (paper eqs. 1-2), uniform bins.
 #pragma once
 
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -22,15 +23,28 @@ public:
   void build(const std::vector<Aabb>& facet_boxes, const double* sphere_xr, int nspheres);
   // (sphere, facet) pairs whose inflated boxes overlap; sorted by sphere, then facet.
   const std::vector<std::pair<int, int>>& candidates() const { return candidates_; }
+  // Drops the candidates for which keep(sphere, facet) is false; keep is called once per
+  // candidate, in order, and the kept ones keep their order.
+  template <class Keep> void prune(Keep keep)
+  {
+    size_t n = 0;
+    for (const auto& c : candidates_)
+      if (keep(c.first, c.second)) candidates_[n++] = c;
+    candidates_.resize(n);
+  }
   void remember_positions(const double* node_x, int nnodes, const double* sphere_x, int nspheres);
   bool needs_rebuild(const double* node_x, int nnodes, const double* sphere_x, int nspheres) const;
+  // The nodes' part of needs_rebuild, for callers that track the spheres themselves: their
+  // largest displacement along an axis since remember_positions (infinity when the node count
+  // changed) and, in node_shift (optional), the largest Euclidean one.
+  double node_travel(const double* node_x, int nnodes, double* node_shift = nullptr) const;
   double buffer() const { return buffer_; }
 
 private:
   double buffer_;
   std::vector<std::pair<int, int>> candidates_;
   std::vector<double> node_x0_, sphere_x0_;
-  std::vector<int> bin_start_, bin_items_, stamp_;
+  std::vector<int> bin_start_, bin_items_, stamp_, ranges_, fill_, found_;
 };
 
 // O(N M) reference used by the tests.

@@ -1,6 +1,9 @@
 // Closest-point queries used by particle-facet contact detection.
 #include "contact/geometry.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace fracdem
 {
 
@@ -91,6 +94,47 @@ ClosestPoint closest_point_triangle(const double q[3], const double a[3], const 
   }
   const double v = vb / sum, w = vc / sum;
   return make(q, a, b, c, 1 - v - w, v, w, Feature::Face, -1);
+}
+
+// The normal is normalised from the cross product, and off_plane measures how far the vertices
+// lie from the resulting plane, so a sliver's inaccurate normal only loosens the bound.
+FacetBound facet_bound(const double a[3], const double b[3], const double* c)
+{
+  const double* P[3] = {a, b, c};
+  const int nv = c ? 3 : 2;
+  FacetBound f;
+  double scale = 0;
+  for (int d = 0; d < 3; ++d) {
+    double lo = a[d], hi = a[d];
+    for (int j = 1; j < nv; ++j) {
+      lo = std::min(lo, P[j][d]);
+      hi = std::max(hi, P[j][d]);
+    }
+    f.c[d] = 0.5 * (lo + hi);
+    scale = std::max({scale, std::fabs(lo), std::fabs(hi)});
+  }
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  double nrm[3] = {e1[1], -e1[0], 0.0}; // segment in the z = 0 plane: in-plane normal
+  if (c) {
+    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  }
+  const double l = std::sqrt(dot(nrm, nrm));
+  for (int d = 0; d < 3; ++d)
+    f.n[d] = l > 0 ? nrm[d] / l : 0.0;
+  f.radius = f.off_plane = 0;
+  for (int j = 0; j < nv; ++j) {
+    const double v[3] = {P[j][0] - f.c[0], P[j][1] - f.c[1], P[j][2] - f.c[2]};
+    f.radius = std::max(f.radius, std::sqrt(dot(v, v)));
+    f.off_plane = std::max(f.off_plane, std::fabs(dot(f.n, v)));
+  }
+  // Rounding of the coordinates (|x| <= scale) in this bound and in the closest point is a few
+  // ulps of scale: 1e-10 relative leaves a margin of about a million.
+  f.slack = 1e-10 * (scale + f.radius);
+  f.radius *= 1 + 1e-12;
+  return f;
 }
 
 } // namespace fracdem

@@ -134,13 +134,56 @@ void ParticleFacetContact::rebuild_search(const ParticleArrays& p, const double*
   search_spheres(p, boxes);
   const int ns = static_cast<int>(search_atoms_.size());
   search_->build(boxes, search_sphere_.data(), ns);
-  sx_.resize(3 * ns);
-  for (int s = 0; s < ns; ++s)
-    for (int d = 0; d < 3; ++d)
-      sx_[3 * s + d] = search_sphere_[4 * s + d];
-  search_->remember_positions(x, nnodes, sx_.data(), ns);
+  bound_facets(x, nnodes);
+  prune_candidates();
+  // The spheres' build-time centres are search_sphere_ (search_is_stale compares with them).
+  search_->remember_positions(x, nnodes, nullptr, 0);
+  node_shift_ = 0;
   search_stale_ = false;
   ++nrebuilds_;
+}
+
+// A body at rest (a still rigid body) keeps its bounds from one build to the next: the host
+// re-neighbours often, the nodes and facets have not changed. Call before remember_positions.
+void ParticleFacetContact::bound_facets(const double* x, int nnodes)
+{
+  bool same = bounded_facets_.size() == facets_.size() && search_->node_travel(x, nnodes) == 0;
+  for (size_t k = 0; same && k < facets_.size(); ++k)
+    same = bounded_facets_[k].n == facets_[k].n && bounded_facets_[k].nn == facets_[k].nn;
+  if (same) return;
+  bounded_facets_ = facets_;
+  facet_bounds_.resize(facets_.size());
+  for (size_t k = 0; k < facets_.size(); ++k) {
+    const Facet& fc = facets_[k];
+    facet_bounds_[k] =
+        facet_bound(&x[3 * fc.n[0]], &x[3 * fc.n[1]], fc.nn == 3 ? &x[3 * fc.n[2]] : nullptr);
+  }
+}
+
+// Until the next build a sphere and the nodes together move by at most `buffer` along every
+// axis, so by at most sqrt(3) buffer in distance: a facet that the sphere's build-time centre
+// cannot reach within r + sqrt(3) buffer can make no contact before then. The boxes of the
+// search only bound this per axis, which on a curved or slanted surface keeps many facets more.
+// The kept candidates of each sphere go to near_ with their distance bound, nearest first, so
+// that gather_hits stops at the first one out of reach.
+void ParticleFacetContact::prune_candidates()
+{
+  const double travel = std::sqrt(3.0) * search_->buffer();
+  near_start_.assign(search_atoms_.size() + 1, 0);
+  near_.clear();
+  search_->prune([&](int s, int f) {
+    const double* q = &search_sphere_[4 * s];
+    const double gap = facet_distance_bound(facet_bounds_[f], q);
+    if (gap > q[3] + travel) return false;
+    near_.emplace_back(gap, f);
+    ++near_start_[s + 1];
+    return true;
+  });
+  // Candidates come sorted by sphere: near_ has the same entries in the same blocks.
+  for (size_t s = 0; s + 1 < near_start_.size(); ++s) {
+    near_start_[s + 1] += near_start_[s];
+    std::sort(near_.begin() + near_start_[s], near_.begin() + near_start_[s + 1]);
+  }
 }
 
 // The search spheres: every particle of the group, followed by those of its periodic images that
@@ -191,12 +234,14 @@ void ParticleFacetContact::search_spheres(const ParticleArrays& p, const std::ve
 bool ParticleFacetContact::search_is_stale(const ParticleArrays& p, const double* x, int nnodes)
 {
   if (search_stale_) return true;
-  const int ns = static_cast<int>(search_atoms_.size());
-  sx_.resize(3 * ns);
-  for (int s = 0; s < ns; ++s)
+  // BufferedSearch::needs_rebuild, without copying the centres: largest axis displacement of a
+  // sphere plus that of a node against the buffer.
+  double ds = 0;
+  for (size_t s = 0; s < search_atoms_.size(); ++s)
     for (int d = 0; d < 3; ++d)
-      sx_[3 * s + d] = p.x[search_atoms_[s]][d] + search_shift_[3 * s + d];
-  return search_->needs_rebuild(x, nnodes, sx_.data(), ns);
+      ds = std::max(ds, std::fabs(p.x[search_atoms_[s]][d] + search_shift_[3 * s + d] -
+                                  search_sphere_[4 * s + d]));
+  return search_->node_travel(x, nnodes, &node_shift_) + ds > search_->buffer();
 }
 
 ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, const double* X,
@@ -248,14 +293,28 @@ ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, cons
 void ParticleFacetContact::gather_hits(const ParticleArrays& p, int i, const double q[3],
                                        const double* x, size_t& c)
 {
-  const auto& cand = search_->candidates();
-  const int s = cand[c].first;
+  const int s = search_->candidates()[c].first;
+  c = near_start_[s + 1];
   image_hits_.clear();
   const double r = p.radius[i];
-  for (; c < cand.size() && cand[c].first == s; ++c) {
-    const Facet& fc = facets_[cand[c].second];
+  // Since the build the centre moved by `moved` and every facet point by at most node_shift_,
+  // so the distance can have shrunk by their sum: a candidate whose build-time bound exceeds
+  // r + moved + node_shift_ cannot overlap (the exact test would reject it too).
+  const double* q0 = &search_sphere_[4 * s];
+  const double dq[3] = {q[0] - q0[0], q[1] - q0[1], q[2] - q0[2]};
+  const double moved = std::sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
+  const double reach = (r + moved + node_shift_) * (1 + 1e-12);
+  near_picked_.clear();
+  for (size_t k = near_start_[s]; k < c && near_[k].first <= reach; ++k)
+    near_picked_.push_back(near_[k].second);
+  // In facet order, as the candidates come: the hits' order decides ties downstream.
+  std::sort(near_picked_.begin(), near_picked_.end());
+  // Only the exact tests count as checks (the load balancer prices a check as a closest point).
+  checks_[i] += static_cast<int>(near_picked_.size());
+  for (const int f : near_picked_) {
+    const Facet& fc = facets_[f];
     FacetHit h;
-    h.facet = cand[c].second;
+    h.facet = f;
     h.nn = fc.nn;
     for (int j = 0; j < 3; ++j)
       h.nodes[j] = fc.n[j];
@@ -264,7 +323,6 @@ void ParticleFacetContact::gather_hits(const ParticleArrays& p, int i, const dou
     else
       h.cp = closest_point_segment(q, &x[3 * fc.n[0]], &x[3 * fc.n[1]]);
     if (h.cp.dist2 < r * r) image_hits_.push_back(h);
-    ++checks_[i];
   }
 }
 

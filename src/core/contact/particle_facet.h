@@ -10,6 +10,7 @@
 #include "contact/contact_resolution.h"
 #include "contact/contact_search.h"
 #include "contact/contact_spread.h"
+#include "contact/geometry.h"
 #include "contact/granular_law.h"
 #include "fem/mesh.h"
 
@@ -97,6 +98,8 @@ private:
   void rebuild_search(const ParticleArrays& p, const double* x, int nnodes);
   void search_spheres(const ParticleArrays& p, const std::vector<Aabb>& boxes);
   void gather_hits(const ParticleArrays& p, int i, const double q[3], const double* x, size_t& c);
+  void bound_facets(const double* x, int nnodes);
+  void prune_candidates();
   void hit_normals(double r, const double* x);
   int particle_contacts(const ParticleArrays& p, int i, const double* X, const double* x,
                         const double* v, double dt, double* f_nodes, ParticleFacetResult& res);
@@ -116,10 +119,20 @@ private:
   std::vector<double> search_shift_;  // 3 per search sphere: its periodic image shift
   bool search_stale_ = true;
   int nrebuilds_ = 0;
+  // Plane and bounding ball of every facet at the last search build, and the largest node
+  // displacement since then: gather_hits culls with them before any closest point.
+  std::vector<FacetBound> facet_bounds_;
+  std::vector<Facet> bounded_facets_; // the facets facet_bounds_ were taken of
+  double node_shift_ = 0;
+  // Per search sphere s, entries near_start_[s] .. near_start_[s + 1] (the same index range as
+  // its block of candidates): (distance bound from the build-time centre, facet), nearest first.
+  std::vector<size_t> near_start_;
+  std::vector<std::pair<double, int>> near_;
+  std::vector<int> near_picked_; // scratch of gather_hits
   // per-evaluation scratch
   std::vector<FacetHit> hits_, image_hits_;
   std::vector<double> hit_centres_; // 3 per hit: the particle centre (or image) that made it
-  std::vector<double> normals_, overlaps_, sx_, region_normals_;
+  std::vector<double> normals_, overlaps_, region_normals_;
   std::vector<double> facet_ref_normal_; // 3 per facet: outward normal in the reference state
   std::vector<char> touched_;
   std::vector<int> checks_, contacts_;
