@@ -108,16 +108,7 @@ def write_scene(wd, n_around, n_up):
     X, E = hopper_mesh(n_around, n_up)
     meshgen.write_gmsh22(os.path.join(wd, "hopper.msh"), X, E)
     tris = boundary_triangles(E)
-    with open(os.path.join(wd, "hopper.stl"), "w") as f:
-        f.write("solid hopper\n")
-        for tri in tris:
-            a, b, c = (X[n] for n in tri)
-            nrm = np.cross(b - a, c - a)
-            f.write(" facet normal %.9g %.9g %.9g\n  outer loop\n" % tuple(nrm / np.linalg.norm(nrm)))
-            for p in (a, b, c):
-                f.write("   vertex %.17g %.17g %.17g\n" % tuple(p))
-            f.write("  endloop\n endfacet\n")
-        f.write("endsolid hopper\n")
+    meshgen.write_stl(os.path.join(wd, "hopper.stl"), X, tris, "hopper")
     return len(E), len(tris)
 
 

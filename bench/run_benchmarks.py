@@ -30,16 +30,7 @@ from fracdem import meshgen  # noqa: E402
 def write_plate(wd):
     X, E, G = meshgen.box_tet_mesh(10, 10, 1, 0.1, 0.1, 0.01, origin=(-0.05, -0.05, -0.01))
     meshgen.write_gmsh22(os.path.join(wd, "plate.msh"), X, E, G)
-    with open(os.path.join(wd, "plate.stl"), "w") as f:
-        f.write("solid plate\n")
-        for name, quads in G.items():
-            for q in quads:
-                for tri in ((q[0], q[1], q[2]), (q[0], q[2], q[3])):
-                    f.write(" facet normal 0 0 0\n  outer loop\n")
-                    for n in tri:
-                        f.write("   vertex %.9g %.9g %.9g\n" % tuple(X[n]))
-                    f.write("  endloop\n endfacet\n")
-        f.write("endsolid plate\n")
+    meshgen.write_stl(os.path.join(wd, "plate.stl"), X, meshgen.group_triangles(G), "plate")
 
 
 def timed_run(exe, script, wd, variables, np_=1):

@@ -197,6 +197,34 @@ def write_gmsh22(path, nodes, elements, groups=None, body_name="body"):
         f.write("$EndElements\n")
 
 
+def group_triangles(groups):
+    """The boundary groups' faces as triangles (each quad split along its 0-2 diagonal)."""
+    tris = []
+    for faces in groups.values():
+        for q in faces:
+            q = list(q)
+            tris += [q] if len(q) == 3 else [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+    return tris
+
+
+def write_stl(path, nodes, triangles, name="surface"):
+    """ASCII STL of triangles (node indices) for stock `fix mesh/surface`: the same surface a
+    `fix fem/body` mesh has, written at full precision."""
+    nodes = np.asarray(nodes, dtype=float)
+    with open(path, "w") as f:
+        f.write(f"solid {name}\n")
+        for tri in triangles:
+            a, b, c = (nodes[n] for n in tri)
+            nrm = np.cross(b - a, c - a)
+            length = np.linalg.norm(nrm)
+            nrm = nrm / length if length > 0 else nrm
+            f.write(" facet normal %.9g %.9g %.9g\n  outer loop\n" % tuple(nrm))
+            for p in (a, b, c):
+                f.write("   vertex %.17g %.17g %.17g\n" % tuple(p))
+            f.write("  endloop\n endfacet\n")
+        f.write(f"endsolid {name}\n")
+
+
 # ---- fracture specimens: Brazilian disc, notched beam, notched block -----------------------
 # Node sets are written, like rect_mesh/box_tet_mesh's, as physical groups of boundary
 # elements of dimension dim - 1 (lines in 2D, triangles in 3D); the reader keeps their nodes.

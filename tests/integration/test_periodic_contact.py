@@ -12,11 +12,15 @@ its periodic image can reach the wall. Compared:
 About 20 s.
 """
 import os
+import sys
 import tempfile
 
 import harness as h
 
 args = h.parse_args()
+sys.path.insert(0, os.path.join(h.ROOT, "python"))
+from fracdem import meshgen  # noqa: E402
+
 L = 0.1
 
 
@@ -26,16 +30,7 @@ def write_wall(wd, dim, x0):
         f.write("fix wall all fem/body file wall.msh type 2 rigid yes\n")
     if dim == 3:
         X, E, G = h_mesh3(wd, x0)
-        with open(os.path.join(wd, "wall.stl"), "w") as f:
-            f.write("solid wall\n")
-            for quads in G.values():
-                for q in quads:
-                    for tri in ((q[0], q[1], q[2]), (q[0], q[2], q[3])):
-                        f.write(" facet normal 0 0 0\n  outer loop\n")
-                        for n in tri:
-                            f.write("   vertex %.12g %.12g %.12g\n" % tuple(X[n]))
-                        f.write("  endloop\n endfacet\n")
-            f.write("endsolid wall\n")
+        meshgen.write_stl(os.path.join(wd, "wall.stl"), X, meshgen.group_triangles(G), "wall")
         with open(os.path.join(wd, "in.wall_mesh"), "w") as f:
             f.write("fix wallmesh all mesh/surface file wall.stl type 2\n"
                     "fix wall all wall/gran model hertz tangential history mesh n_meshes 1 "
@@ -45,9 +40,6 @@ def write_wall(wd, dim, x0):
 
 
 def h_mesh3(wd, x0):
-    import sys
-    sys.path.insert(0, os.path.join(h.ROOT, "python"))
-    from fracdem import meshgen
     X, E, G = meshgen.box_tet_mesh(2, 6, 6, 0.01, 0.06, 0.06, origin=(x0, -0.03, -0.03))
     meshgen.write_gmsh22(os.path.join(wd, "wall.msh"), X, E, G)
     return X, E, G
