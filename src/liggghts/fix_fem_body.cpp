@@ -296,9 +296,9 @@ void FixFemBody::parse_arguments(int narg, char** arg)
     } else if (!strcmp(kw, "motion")) {
       parse_motion(narg, arg, iarg);
     } else if (!strcmp(kw, "material")) {
-      parse_material(narg, arg, iarg);
+      parse_material_words(narg, arg, iarg, fracdem::parse_material_arguments);
     } else if (!strcmp(kw, "eos")) {
-      parse_eos(narg, arg, iarg);
+      parse_material_words(narg, arg, iarg, fracdem::parse_eos_arguments);
     } else if (!strcmp(kw, "fracture")) {
       parse_fracture(narg, arg, iarg);
     } else if (!strcmp(kw, "contact_model")) {
@@ -401,26 +401,14 @@ static std::string keyword_error(const std::string& err)
   return "keyword '" + err.substr(0, colon) + "'" + err.substr(colon);
 }
 
-// material MODEL [model arguments]: the model and its constants are read by the core's material
-// table; the adapter only hands over the words up to the next fix fem/body keyword.
-void FixFemBody::parse_material(int narg, char** arg, int& iarg)
+// `material MODEL ...` and `eos ...`: the core's material table reads the words up to the next
+// fix fem/body keyword with `parse` (parse_material_arguments or parse_eos_arguments); the
+// adapter only hands them over and reports the error by keyword.
+void FixFemBody::parse_material_words(int narg, char** arg, int& iarg, MaterialParser parse)
 {
   std::vector<std::string> words(arg + iarg + 1, arg + narg);
   std::size_t used = 0;
-  const std::string err = fracdem::parse_material_arguments(words, material_, &used);
-  if (!err.empty()) {
-    const std::string msg = std::string(kStyle) + ": " + keyword_error(err);
-    error->all(FLERR, msg.c_str());
-  }
-  iarg += 1 + static_cast<int>(used);
-}
-
-// eos linear | mie_gruneisen C0 S GAMMA0 (pressure of a plastic material)
-void FixFemBody::parse_eos(int narg, char** arg, int& iarg)
-{
-  std::vector<std::string> words(arg + iarg + 1, arg + narg);
-  std::size_t used = 0;
-  const std::string err = fracdem::parse_eos_arguments(words, material_, &used);
+  const std::string err = parse(words, material_, &used);
   if (!err.empty()) {
     const std::string msg = std::string(kStyle) + ": " + keyword_error(err);
     error->all(FLERR, msg.c_str());

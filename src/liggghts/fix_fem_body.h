@@ -88,8 +88,9 @@ private:
   // ---- set-up helpers ----
   void parse_arguments(int narg, char** arg);
   void parse_motion(int narg, char** arg, int& iarg);
-  void parse_material(int narg, char** arg, int& iarg);
-  void parse_eos(int narg, char** arg, int& iarg);
+  using MaterialParser = std::string (*)(const std::vector<std::string>&, fracdem::Material&,
+                                         std::size_t*);
+  void parse_material_words(int narg, char** arg, int& iarg, MaterialParser parse);
   double number(const char* keyword, const char* word);
   int whole_number(const char* keyword, const char* word);
   static constexpr int kMaxHistorySlots = 64;
