@@ -175,6 +175,9 @@ private:
   int pack_leavers(std::vector<int>& dest);
   void migrate_sparse(int kept_and_sent);
   // comm_graph_forward.cpp: one aggregated message per partner block.
+  // One aggregated forward (reverse) communication of a pair, fix, compute or dump.
+  template <class Obj> void forward_object(Obj* obj);
+  template <class Obj> void reverse_object(Obj* obj);
   void forward_blocks(int per_atom, const PackFn& pack, const UnpackFn& unpack, int tag);
   void reverse_blocks(int per_atom, const PackFn& pack, const UnpackFn& unpack, int tag);
   void forward_blocks_variable(int max_per_atom, const PackFn& pack, const UnpackFn& unpack,

@@ -230,82 +230,81 @@ void CommGraph::reverse_comm()
 
 // Pairs, fixes, computes and dumps return their per-atom size from pack (the stock loop sizes its
 // receives by it); asking with no atoms tells it before any receive is posted.
-#define FORWARD_OBJECT(obj)                                                                        \
-  do {                                                                                             \
-    if (nswap == 0) return;                                                                        \
-    self_buf_.resize(std::max<size_t>(self_buf_.size(), 1));                                       \
-    const int per_atom = obj->pack_comm(0, sendlist[0], self_buf_.data(), pbc_flag[0], pbc[0]);    \
-    forward_blocks(                                                                                \
-        per_atom,                                                                                  \
-        [&](int i, double* buf) {                                                                  \
-          obj->pack_comm(sendnum[i], sendlist[i], buf, pbc_flag[i], pbc[i]);                       \
-          return sendnum[i] * per_atom;                                                            \
-        },                                                                                         \
-        [&](int i, double* buf) { obj->unpack_comm(recvnum[i], firstrecv[i], buf); },              \
-        kTagForward);                                                                              \
-  } while (0)
+template <class Obj> void CommGraph::forward_object(Obj* obj)
+{
+  if (nswap == 0) return;
+  self_buf_.resize(std::max<size_t>(self_buf_.size(), 1));
+  const int per_atom = obj->pack_comm(0, sendlist[0], self_buf_.data(), pbc_flag[0], pbc[0]);
+  forward_blocks(
+      per_atom,
+      [&](int i, double* buf) {
+        obj->pack_comm(sendnum[i], sendlist[i], buf, pbc_flag[i], pbc[i]);
+        return sendnum[i] * per_atom;
+      },
+      [&](int i, double* buf) { obj->unpack_comm(recvnum[i], firstrecv[i], buf); }, kTagForward);
+}
 
-#define REVERSE_OBJECT(obj)                                                                        \
-  do {                                                                                             \
-    if (nswap == 0) return;                                                                        \
-    self_buf_.resize(std::max<size_t>(self_buf_.size(), 1));                                       \
-    const int per_atom = obj->pack_reverse_comm(0, firstrecv[0], self_buf_.data());                \
-    reverse_blocks(                                                                                \
-        per_atom,                                                                                  \
-        [&](int i, double* buf) {                                                                  \
-          obj->pack_reverse_comm(recvnum[i], firstrecv[i], buf);                                   \
-          return recvnum[i] * per_atom;                                                            \
-        },                                                                                         \
-        [&](int i, double* buf) { obj->unpack_reverse_comm(sendnum[i], sendlist[i], buf); },       \
-        kTagReverse);                                                                              \
-  } while (0)
+template <class Obj> void CommGraph::reverse_object(Obj* obj)
+{
+  if (nswap == 0) return;
+  self_buf_.resize(std::max<size_t>(self_buf_.size(), 1));
+  const int per_atom = obj->pack_reverse_comm(0, firstrecv[0], self_buf_.data());
+  reverse_blocks(
+      per_atom,
+      [&](int i, double* buf) {
+        obj->pack_reverse_comm(recvnum[i], firstrecv[i], buf);
+        return recvnum[i] * per_atom;
+      },
+      [&](int i, double* buf) { obj->unpack_reverse_comm(sendnum[i], sendlist[i], buf); },
+      kTagReverse);
+}
 
 void CommGraph::forward_comm_pair(Pair* pair)
 {
   if (!graph_mode_) return Comm::forward_comm_pair(pair);
-  FORWARD_OBJECT(pair);
+  forward_object(pair);
 }
 
 void CommGraph::reverse_comm_pair(Pair* pair)
 {
   if (!graph_mode_) return Comm::reverse_comm_pair(pair);
-  REVERSE_OBJECT(pair);
+  reverse_object(pair);
 }
 
 void CommGraph::forward_comm_fix(Fix* fix)
 {
   if (!graph_mode_) return Comm::forward_comm_fix(fix);
-  FORWARD_OBJECT(fix);
+  forward_object(fix);
 }
 
 void CommGraph::reverse_comm_fix(Fix* fix)
 {
   if (!graph_mode_) return Comm::reverse_comm_fix(fix);
-  REVERSE_OBJECT(fix);
+  reverse_object(fix);
 }
 
 void CommGraph::forward_comm_compute(Compute* compute)
 {
   if (!graph_mode_) return Comm::forward_comm_compute(compute);
-  FORWARD_OBJECT(compute);
+  forward_object(compute);
 }
 
 void CommGraph::reverse_comm_compute(Compute* compute)
 {
   if (!graph_mode_) return Comm::reverse_comm_compute(compute);
-  REVERSE_OBJECT(compute);
+  reverse_object(compute);
 }
 
 void CommGraph::forward_comm_dump(Dump* dump)
 {
   if (!graph_mode_) return Comm::forward_comm_dump(dump);
-  FORWARD_OBJECT(dump);
+  forward_object(dump);
 }
 
 void CommGraph::reverse_comm_dump(Dump* dump)
 {
   if (!graph_mode_) return Comm::reverse_comm_dump(dump);
-  REVERSE_OBJECT(dump);
+  reverse_object(dump);
 }
 
 void CommGraph::forward_comm_variable_fix(Fix* fix)
