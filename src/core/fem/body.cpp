@@ -410,22 +410,11 @@ std::size_t mesh_bytes(const Mesh& m)
          vector_bytes(m.region) + set_bytes(m.node_sets) + set_bytes(m.elem_sets);
 }
 
-// FeSpace keeps its arrays private; they are counted from the layout documented in
-// fe_space.cpp: per element a block of 13 (tet4), 11 (tri3) or 56 (quad4) doubles, its reference
-// measure, and two int offsets (geometry block, material state).
-std::size_t fe_space_bytes(const Mesh& m)
-{
-  std::size_t doubles = 0;
-  for (ElemType t : m.etype)
-    doubles += (t == ElemType::Tet4 ? 13 : t == ElemType::Tri3 ? 11 : 56) + 1;
-  return doubles * sizeof(double) + 2 * (m.etype.size() + 1) * sizeof(int);
-}
-
 } // namespace
 
 std::size_t Body::memory_bytes() const
 {
-  std::size_t b = sizeof(*this) + mesh_bytes(mesh_) + fe_space_bytes(mesh_);
+  std::size_t b = sizeof(*this) + mesh_bytes(mesh_) + space_.memory_bytes();
   for (const std::vector<double>* v :
        {&x_, &v_, &f_, &mass_, &inv_mass_, &f_contact_, &f_contact_prev_, &f_pending_,
         &v_prescribed_, &ramp_, &reactions_, &state_})

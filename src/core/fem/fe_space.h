@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <cstddef>
 #include <vector>
 
 #include "materials/material.h"
@@ -85,6 +86,13 @@ public:
   double point_weight(const Mesh& mesh, int e, int q) const;
   bool axisymmetric() const { return axisym_; }
   const Material& material() const { return mat_; }
+
+  // Bytes of the precomputed element data (capacities of its arrays).
+  std::size_t memory_bytes() const
+  {
+    return offset_.capacity() * sizeof(int) + geo_.capacity() * sizeof(double) +
+           measure_.capacity() * sizeof(double) + state_offset_.capacity() * sizeof(int);
+  }
 
 private:
   double omega2_bound(const Mesh& mesh, const double* x, int e) const;
