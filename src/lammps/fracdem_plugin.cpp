@@ -62,7 +62,7 @@ extern "C" void lammpsplugin_init(void* lmp_ptr, void* handle, void* regfunc_ptr
 
   plugin.style = "fix";
   plugin.name = "fem/body";
-  plugin.info = "fracdem fix fem/body: finite-element body (preview: FE only, no particle contact)";
+  plugin.info = "fracdem fix fem/body: finite-element body with particle contact (preview)";
   plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2*>(&create_fix_fem_body);
   (*regfunc)(&plugin, lmp);
 }
