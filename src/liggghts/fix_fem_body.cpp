@@ -301,6 +301,8 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       parse_material_words(narg, arg, iarg, fracdem::parse_eos_arguments);
     } else if (!strcmp(kw, "fracture")) {
       parse_fracture(narg, arg, iarg);
+    } else if (!strcmp(kw, "bulk_viscosity")) {
+      parse_bulk_viscosity(narg, arg, iarg);
     } else if (!strcmp(kw, "contact_model")) {
       need(iarg, 1, kw, "hertz or hooke");
       normal_model_ = lookup(error, kNormalModelTable, kw, arg[iarg + 1]);
@@ -443,6 +445,29 @@ void FixFemBody::parse_fracture(int narg, char** arg, int& iarg)
   }
 }
 
+// bulk_viscosity off | Q1 Q2: the coefficients are checked by the core.
+void FixFemBody::parse_bulk_viscosity(int narg, char** arg, int& iarg)
+{
+  const char* expected = "fix fem/body: keyword 'bulk_viscosity' expects 'off' or 'Q1 Q2' (linear "
+                         "and quadratic coefficients, e.g. 0.06 1.2)";
+  if (iarg + 1 >= narg) error->all(FLERR, expected);
+  if (!strcmp(arg[iarg + 1], "off")) {
+    viscosity_mode_ = 0;
+    iarg += 2;
+    return;
+  }
+  if (iarg + 2 >= narg) error->all(FLERR, expected);
+  viscosity_.q1 = number(arg[iarg], arg[iarg + 1]);
+  viscosity_.q2 = number(arg[iarg], arg[iarg + 2]);
+  const char* bad = fracdem::bulk_viscosity_check(viscosity_);
+  if (*bad) {
+    const std::string msg = std::string(kStyle) + ": keyword 'bulk_viscosity': " + bad;
+    error->all(FLERR, msg.c_str());
+  }
+  viscosity_mode_ = 1;
+  iarg += 3;
+}
+
 // Index of the reaction account of a node group (one per group name, in order of appearance).
 int FixFemBody::reaction_group(const std::string& set)
 {
@@ -499,6 +524,15 @@ void FixFemBody::check_arguments()
     error->all(FLERR, "fix fem/body: keyword 'plane' applies to 2D runs ('dimension 2'); this run "
                       "is 3D (leave out 'plane')");
   if (compliance_combined_ < 0) compliance_combined_ = rigid_ ? 1 : 0;
+  // Default: on for shock problems (plastic materials, equations of state), off for elastic and
+  // Rankine bodies, whose results stay as they were.
+  if (viscosity_mode_ > 0 && rigid_)
+    error->all(FLERR, "fix fem/body: keyword 'bulk_viscosity' applies to deformable bodies; a "
+                      "rigid body does not deform");
+  if (viscosity_mode_ < 0)
+    viscosity_mode_ =
+        !rigid_ && (material_.plastic_model() || material_.eos.model != fracdem::EosModel::Linear);
+  viscosity_.on = viscosity_mode_ > 0;
   // Off unless asked for: with the rotating crack, contact between fragments can feed energy into
   // fully cracked elements (docs/fracture.md, restrictions).
   if (contact_bodies_ < 0) contact_bodies_ = 0;
@@ -546,6 +580,7 @@ void FixFemBody::load_mesh()
     error->all(FLERR, msg.c_str());
   }
   body_.set_rigid_motion(motion_);
+  body_.set_bulk_viscosity(viscosity_);
   for (const auto& s : fixed_sets_)
     body_.set_fixed(node_set(s.set, "fixed"), s.mask, s.group);
   for (const auto& s : prescribed_velocity_)
@@ -554,9 +589,10 @@ void FixFemBody::load_mesh()
     node_set(s.set, "velocity"); // validate names now
 
   // Every rank holds the whole body (replicated). The element work of a material without
-  // history is split evenly; one with history (softening, cracks) is advanced on every rank, so
-  // that every replica holds the whole material state (fracture decisions, restart).
-  split_element_work_ = body_.space().state_size() == 0 && comm->nprocs > 1;
+  // history is split evenly; one with history (softening, cracks, the viscous work of the bulk
+  // viscosity) is advanced on every rank, so that every replica holds the whole material state
+  // (fracture decisions, restart, energy accounts).
+  split_element_work_ = body_.space().state_size() == 0 && !viscosity_.on && comm->nprocs > 1;
   if (split_element_work_) {
     const long long ne = body_.mesh().num_elems();
     body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
@@ -689,14 +725,18 @@ void FixFemBody::log_body()
 {
   if (comm->me != 0) return;
   char line[512];
+  char viscosity[96] = "";
+  if (viscosity_.on)
+    snprintf(viscosity, sizeof(viscosity), ", bulk viscosity %g %g", viscosity_.q1, viscosity_.q2);
   snprintf(line, sizeof(line),
-           "fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s\n", id,
+           "fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s%s\n", id,
            mesh_file_.c_str(), body_.num_nodes(), body_.mesh().num_elems(),
            contact_.facets().size(), rigid_ ? "rigid" : "deformable ",
            rigid_ ? ""
                   : (material_.kinematics == fracdem::Kinematics::Corotational
                          ? "corotational"
-                         : "small-strain elastic"));
+                         : "small-strain elastic"),
+           viscosity);
   if (screen) fputs(line, screen);
   if (logfile) fputs(line, logfile);
 }
@@ -781,8 +821,13 @@ void FixFemBody::init()
                         energy_file_ + "' for writing";
       error->one(FLERR, msg.c_str());
     }
-    fprintf(energy_fp_, "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
-                        "fracture_energy,split_nodes,fragments,boundary_work");
+    // The material's dissipation: cracking, or the plastic work of a plastic material (which
+    // does not crack); the bulk viscosity's work has a column of its own.
+    fprintf(energy_fp_,
+            "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
+            "%s,split_nodes,fragments,boundary_work%s",
+            material_.plastic_model() ? "plastic_work" : "fracture_energy",
+            viscosity_.on ? ",viscous_work" : "");
     for (const std::string& g : reaction_groups_)
       fprintf(energy_fp_, ",reaction_%s_x,reaction_%s_y,reaction_%s_z", g.c_str(), g.c_str(),
               g.c_str());
@@ -1021,8 +1066,8 @@ double FixFemBody::compute_vector(int i)
   case kMomentumY:
   case kMomentumZ:
     return body_.momentum(i - kMomentumX);
-  case kDissipated:
-    return body_.dissipated_energy();
+  case kDissipated: // the material's and the bulk viscosity's: the energy balance's dissipation
+    return body_.dissipated_energy() + body_.viscous_work();
   case kSplitNodes:
     return split_nodes();
   case kFragments:
@@ -1259,6 +1304,7 @@ void FixFemBody::write_energy_row()
           update->ntimestep, body_.time(), ke, se, body_.external_work(), body_.contact_work(),
           ke + se, body_.num_nodes(), body_.mesh().num_active_elems(), body_.dissipated_energy(),
           split_nodes(), fragments(), body_.boundary_work());
+  if (viscosity_.on) fprintf(energy_fp_, ",%.12g", body_.viscous_work());
   const auto& r = body_.reactions();
   for (size_t k = 0; k < 3 * reaction_groups_.size(); ++k)
     fprintf(energy_fp_, ",%.12g", k < r.size() ? r[k] : 0.0);

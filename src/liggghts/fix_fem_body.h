@@ -95,6 +95,7 @@ private:
   int whole_number(const char* keyword, const char* word);
   static constexpr int kMaxHistorySlots = 64;
   void parse_fracture(int narg, char** arg, int& iarg);
+  void parse_bulk_viscosity(int narg, char** arg, int& iarg);
   void check_arguments();
   void load_mesh();
   void log_body();
@@ -134,6 +135,8 @@ private:
   bool have_density_ = false, have_youngs_ = false, have_poisson_ = false;
   bool rigid_ = false;
   bool have_plane_ = false;
+  fracdem::BulkViscosity viscosity_;
+  int viscosity_mode_ = -1; // -1: default (on for plastic materials / EOS), 0: off, 1: on
   fracdem::RigidMotion motion_;
   std::vector<FixedSpec> fixed_sets_;
   std::vector<std::string> reaction_groups_; // fixed / prescribed_velocity groups, in order

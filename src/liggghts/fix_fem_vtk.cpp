@@ -1,4 +1,4 @@
-// fix fem/vtk: writes displacement, velocity, stress and energy density of a fem/body for ParaView.
+// fix fem/vtk: a fem/body's displacement, velocity, stress and material state for ParaView.
 #include "fix_fem_vtk.h"
 
 #include <cstring>
@@ -124,6 +124,13 @@ void FixFemVtk::write_frame()
   std::vector<double> damage, normal, fragment, split;
   if (fracdem::material_model_info(body.material().model).fractures)
     fracture_fields(body, damage, normal, fragment, split, fields);
+  // Plastic state only for plastic materials (element means over the integration points).
+  std::vector<double> eps_bar, temperature_rise, plastic_work;
+  if (body.element_plastic_state(eps_bar, temperature_rise, plastic_work)) {
+    fields.push_back({"plastic_strain", 1, eps_bar.data(), true});
+    fields.push_back({"temperature_rise", 1, temperature_rise.data(), true});
+    fields.push_back({"plastic_work", 1, plastic_work.data(), true});
+  }
   char name[64];
   snprintf(name, sizeof(name), "_%010lld.vtu", static_cast<long long>(update->ntimestep));
   const std::string path = prefix_ + name;

@@ -27,6 +27,7 @@ void Body::build(Mesh mesh, const Material& material, bool rigid)
   stars_.build(mesh_);
   elem_begin_ = 0;
   elem_end_ = mesh_.num_elems();
+  set_bulk_viscosity(viscosity_); // sizes its accounts for this mesh
 }
 
 void Body::resize_nodes(int nn)
@@ -53,6 +54,15 @@ void Body::derive_masses()
   inv_mass_.resize(mass_.size());
   for (size_t i = 0; i < mass_.size(); ++i)
     inv_mass_[i] = mass_[i] > 0 ? 1.0 / mass_[i] : 0.0;
+}
+
+void Body::set_bulk_viscosity(const BulkViscosity& bv)
+{
+  viscosity_ = bv;
+  const std::size_t ne = viscosity_.on ? mesh_.num_elems() : 0;
+  for (std::vector<double>* a :
+       {&viscous_work_, &viscous_force_prev_, &viscous_force_, &viscous_rate_})
+    a->assign(ne, 0.0);
 }
 
 void Body::set_element_range(int begin, int end)
@@ -186,8 +196,64 @@ void Body::begin_forces()
 double Body::add_internal_forces(int* first_inverted)
 {
   if (rigid_) return 0.0;
-  return space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
-                                    first_inverted, state_.data(), &damaged_points_, last_dt_);
+  const double energy =
+      space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
+                                 first_inverted, state_.data(), &damaged_points_, last_dt_);
+  if (viscosity_.on)
+    space_.add_viscous_forces(mesh_, x_.data(), v_.data(), elem_begin_, elem_end_, viscosity_,
+                              state_.data(), f_.data(), viscous_force_.data(),
+                              viscous_rate_.data());
+  return energy;
+}
+
+// Work of the viscous forces f = (q W) b over the last step, trapezoidal like the contact work:
+// 0.5 (f_prev + f) . dx with dx = v dt and b . v = D (the step's change of b is neglected).
+void Body::add_viscous_work(double dt, bool count_work)
+{
+  for (int e = elem_begin_; e < elem_end_; ++e) {
+    if (count_work)
+      viscous_work_[e] -=
+          0.5 * (viscous_force_prev_[e] + viscous_force_[e]) * viscous_rate_[e] * dt;
+    viscous_force_prev_[e] = viscous_force_[e];
+  }
+}
+
+double Body::viscous_work() const
+{
+  double total = 0;
+  for (double w : viscous_work_)
+    total += w;
+  return total;
+}
+
+bool Body::element_plastic_state(std::vector<double>& eps_bar,
+                                 std::vector<double>& temperature_rise,
+                                 std::vector<double>& plastic_work) const
+{
+  if (!material_.plastic_model()) return false;
+  const int ne = mesh_.num_elems();
+  eps_bar.assign(ne, 0.0);
+  temperature_rise.assign(ne, 0.0);
+  plastic_work.assign(ne, 0.0);
+  for (int e = 0; e < ne; ++e) {
+    if (!mesh_.active[e]) continue;
+    double W = 0;
+    for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q) {
+      const double* st = &state_[space_.state_offset(e) + q * kPlasticStateSize];
+      const double w = space_.point_weight(mesh_, e, q);
+      eps_bar[e] += w * plastic_equivalent_strain(st);
+      temperature_rise[e] +=
+          w * (plastic_temperature(material_.plastic, st) - material_.plastic.troom);
+      plastic_work[e] += w * plastic_dissipated(st);
+      W += w;
+    }
+    if (W > 0) {
+      eps_bar[e] /= W;
+      temperature_rise[e] /= W;
+      plastic_work[e] /= W;
+    }
+  }
+  return true;
 }
 
 double Body::element_failure(int e, double normal[3]) const
@@ -279,6 +345,7 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
   }
   // f_contact_prev_ keeps this step's contact forces; f_contact_ becomes scratch.
   std::swap(f_contact_prev_, f_contact_);
+  if (viscosity_.on && !rigid_) add_viscous_work(dt, count_work);
   if (!reactions_.empty()) add_reactions(dt, count_work);
   for (int n = 0; n < nn; ++n)
     if (bc_[n] == NodeBc::Partial) {
@@ -417,7 +484,8 @@ std::size_t Body::memory_bytes() const
   std::size_t b = sizeof(*this) + mesh_bytes(mesh_) + space_.memory_bytes();
   for (const std::vector<double>* v :
        {&x_, &v_, &f_, &mass_, &inv_mass_, &f_contact_, &f_contact_prev_, &f_pending_,
-        &v_prescribed_, &ramp_, &reactions_, &state_})
+        &v_prescribed_, &ramp_, &reactions_, &state_, &viscous_work_, &viscous_force_prev_,
+        &viscous_force_, &viscous_rate_})
     b += vector_bytes(*v);
   b += vector_bytes(bc_) + vector_bytes(held_) + vector_bytes(bc_group_) + vector_bytes(parent_);
   b += vector_bytes(stars_.offset) + vector_bytes(stars_.elems);
@@ -429,6 +497,9 @@ std::size_t Body::memory_bytes() const
    version 1: x, v (3 nn each), active (ne)
    version 2: X, x, v, v_prescribed (3 nn each), bc + 8 held, ramp, group, parent, mass (nn each),
               conn (4 ne), active (ne), nstate, material state (nstate), boundary work
+   version 3: version 2, then ne, per element viscous work, last viscous force q W and last
+              volumetric strain rate (the stable step's damping; ne each);
+              written only with bulk viscosity on, so other bodies keep writing version 2
 ------------------------------------------------------------------------- */
 
 void Body::pack_state(std::vector<double>& buf) const
@@ -436,7 +507,8 @@ void Body::pack_state(std::vector<double>& buf) const
   const int nn = num_nodes(), ne = mesh_.num_elems();
   buf.clear();
   buf.reserve(6 + 17 * nn + 6 * ne + state_.size());
-  buf.insert(buf.end(), {2.0, double(nn), double(ne), time_, external_work_, contact_work_});
+  const double version = viscosity_.on ? 3.0 : 2.0;
+  buf.insert(buf.end(), {version, double(nn), double(ne), time_, external_work_, contact_work_});
   buf.insert(buf.end(), mesh_.X.begin(), mesh_.X.end());
   buf.insert(buf.end(), x_.begin(), x_.end());
   buf.insert(buf.end(), v_.begin(), v_.end());
@@ -453,6 +525,27 @@ void Body::pack_state(std::vector<double>& buf) const
   buf.push_back(static_cast<double>(state_.size()));
   buf.insert(buf.end(), state_.begin(), state_.end());
   buf.push_back(boundary_work_);
+  if (!viscosity_.on) return;
+  buf.push_back(double(ne));
+  buf.insert(buf.end(), viscous_work_.begin(), viscous_work_.end());
+  buf.insert(buf.end(), viscous_force_prev_.begin(), viscous_force_prev_.end());
+  buf.insert(buf.end(), viscous_rate_.begin(), viscous_rate_.end());
+}
+
+// The viscous accounts of a version-3 record. A record without them (viscosity off when it was
+// written, or older) starts the accounts at zero; one with them needs the viscosity on, or its
+// work would drop out of the energy balance.
+void Body::unpack_viscosity(int version, const double* p)
+{
+  if (version < 3) return;
+  const int ne = static_cast<int>(*p++);
+  if (!viscosity_.on)
+    throw std::runtime_error("restart file holds the work of a bulk viscosity but this body has "
+                             "'bulk_viscosity off'; give it bulk viscosity as the run that wrote "
+                             "it had");
+  std::copy(p, p + ne, viscous_work_.begin());
+  std::copy(p + ne, p + 2 * ne, viscous_force_prev_.begin());
+  std::copy(p + 2 * ne, p + 3 * ne, viscous_rate_.begin());
 }
 
 void Body::unpack_state(const double* buf)
@@ -460,8 +553,8 @@ void Body::unpack_state(const double* buf)
   const int version = static_cast<int>(buf[0]);
   const int nn = static_cast<int>(buf[1]), ne = static_cast<int>(buf[2]);
   const int mesh_nodes = std::count(parent_.begin(), parent_.end(), -1);
-  if ((version != 1 && version != 2) || ne != mesh_.num_elems() ||
-      (version == 1 && nn != num_nodes()) || (version == 2 && nn < mesh_nodes))
+  if (version < 1 || version > 3 || ne != mesh_.num_elems() ||
+      (version == 1 && nn != num_nodes()) || (version >= 2 && nn < mesh_nodes))
     throw std::runtime_error("restart file holds a body with " + std::to_string(nn) + " nodes / " +
                              std::to_string(ne) + " elements but the mesh has " +
                              std::to_string(mesh_nodes) + " / " +
@@ -470,7 +563,7 @@ void Body::unpack_state(const double* buf)
   external_work_ = buf[4];
   contact_work_ = buf[5];
   const double* p = buf + 6;
-  if (version == 2) {
+  if (version >= 2) {
     mesh_.X.assign(p, p + 3 * nn);
     p += 3 * nn;
   }
@@ -478,7 +571,7 @@ void Body::unpack_state(const double* buf)
   std::copy(p, p + 3 * nn, x_.begin());
   std::copy(p + 3 * nn, p + 6 * nn, v_.begin());
   p += 6 * nn;
-  if (version == 2) {
+  if (version >= 2) {
     std::copy(p, p + 3 * nn, v_prescribed_.begin());
     p += 3 * nn;
     for (int n = 0; n < nn; ++n) {
@@ -508,7 +601,7 @@ void Body::unpack_state(const double* buf)
   for (int e = 0; e < ne; ++e)
     mesh_.active[e] = p[e] != 0.0;
   p += ne;
-  if (version == 2) {
+  if (version >= 2) {
     const int nstate = static_cast<int>(*p++);
     if (nstate != static_cast<int>(state_.size()))
       throw std::runtime_error("restart file holds " + std::to_string(nstate) +
@@ -516,7 +609,9 @@ void Body::unpack_state(const double* buf)
                                std::to_string(state_.size()) + "; use the same 'material'");
     std::copy(p, p + nstate, state_.begin());
     boundary_work_ = p[nstate];
+    p += nstate + 1;
   }
+  unpack_viscosity(version, p);
   stars_.build(mesh_);
   if (version == 1) derive_masses(); // masses of the whole mesh, as that version's runs had
   for (int n = 0; n < nn; ++n)

@@ -34,6 +34,11 @@ public:
   void set_element_range(int begin, int end);
 
   // ---- boundary conditions and initial state ----
+  // Artificial bulk viscosity (materials/bulk_viscosity.h); off after build. Turning it on keeps
+  // each element's viscous work and last viscous force (restart record version 3).
+  void set_bulk_viscosity(const BulkViscosity& bv);
+  const BulkViscosity& bulk_viscosity() const { return viscosity_; }
+
   // Holds the components in `mask` (bit d: component d; 7 = all) of `nodes`. group: index of
   // the reaction account these nodes report to (-1: none).
   void set_fixed(const std::vector<int>& nodes, int mask = 7, int group = -1);
@@ -55,10 +60,13 @@ public:
   // Zeroes the internal forces only (to take them again after an erosion within the step).
   void clear_internal_forces() { std::fill(f_.begin(), f_.end(), 0.0); }
   // Internal forces of this rank's elements into forces(); returns their strain energy.
-  // An inverted element (det F <= 0) sets *first_inverted (if still < 0).
+  // An inverted element (det F <= 0) sets *first_inverted (if still < 0). With bulk viscosity the
+  // viscous forces of the current (mid-step) velocities are added; their work is counted once per
+  // step by finish_forces, so a second call within a step (after an erosion) counts nothing twice.
   double add_internal_forces(int* first_inverted);
   // After contact_forces() holds every rank's contributions and the strain energy is summed:
-  // contact work (trapezoidal, mid-step velocities), gravity and its work (deformable only),
+  // contact work and bulk-viscosity work (trapezoidal, mid-step velocities), gravity and its
+  // work (deformable only),
   // the total contact force, zero force on held nodes. `count_work` is false during set-up.
   void finish_forces(double strain_energy, const double gravity[3], double dt, bool count_work);
 
@@ -75,8 +83,13 @@ public:
   // and force sums are unchanged (to round-off). Returns the copy's index.
   int split_node(const SplitPlan& plan);
   SplitPlan plan_separation(int node) const { return plan_star_separation(mesh_, stars_, node); }
-  // Stable step of element e alone in the current configuration (1e300 if eroded).
-  double element_time_step(int e) const { return space_.element_time_step(mesh_, x_.data(), e); }
+  // Stable step of element e alone in the current configuration (1e300 if eroded), reduced by
+  // the bulk viscosity's damping at the element's last volumetric strain rate.
+  double element_time_step(int e) const
+  {
+    if (!viscosity_.on) return space_.element_time_step(mesh_, x_.data(), e);
+    return space_.element_time_step(mesh_, x_.data(), e, viscosity_, viscous_rate_[e]);
+  }
   const NodeStars& stars() const { return stars_; }
   // Removes elements from the body (their nodes keep their masses and go on as point masses).
   void erode(const std::vector<int>& elems);
@@ -110,7 +123,10 @@ public:
   const double* contact_force_total() const { return contact_force_total_; }
   double kinetic_energy() const;
   double momentum(int d) const;
-  double stable_time_step() const { return space_.stable_time_step(mesh_, x_.data()); }
+  double stable_time_step() const
+  {
+    return space_.stable_time_step(mesh_, x_.data(), &viscosity_, viscous_rate_.data());
+  }
   // Material history of every integration point (layout: FeSpace::state_offset).
   const std::vector<double>& material_state() const { return state_; }
   // Cauchy stress of element e now (Voigt 6), without advancing its history.
@@ -130,6 +146,15 @@ public:
   int damaged_points() const { return damaged_points_; }
   // Strain energy per element now (0 for eroded ones), without advancing any history.
   void element_energies(std::vector<double>& energy) const;
+  // Work of the bulk viscosity so far (>= 0 up to the trapezoidal rule: energy taken out of the
+  // body), in all and per element (empty when the viscosity is off).
+  double viscous_work() const;
+  const std::vector<double>& element_viscous_work() const { return viscous_work_; }
+  // Plastic materials: per element the weighted mean over its integration points of the
+  // equivalent plastic strain, the temperature rise (K) and the plastic work per unit volume
+  // (0 for eroded elements). Returns false (vectors untouched) for other materials.
+  bool element_plastic_state(std::vector<double>& eps_bar, std::vector<double>& temperature_rise,
+                             std::vector<double>& plastic_work) const;
 
   // Bytes this body holds on one rank (it is replicated on every rank): the capacities of its
   // nodal, element, boundary-condition and material-state arrays, its mesh (with the named
@@ -157,6 +182,8 @@ private:
   void add_reactions(double dt, bool count_work);
   void open_reaction_group(int group); // a reaction account for group (-1: none)
   void derive_masses();
+  void add_viscous_work(double dt, bool count_work);
+  void unpack_viscosity(int version, const double* p);
 
   Mesh mesh_;
   FeSpace space_;
@@ -173,7 +200,11 @@ private:
   std::vector<double> reactions_;  // 3 per group
   std::vector<int> parent_;
   std::vector<double> state_; // per integration point, see FeSpace::state_offset
-  NodeStars stars_;           // active elements around each node
+  BulkViscosity viscosity_;
+  // Per element: viscous work so far, q W of the last counted evaluation (restart state); q W and
+  // volumetric strain rate of the latest evaluation (recomputed every step).
+  std::vector<double> viscous_work_, viscous_force_prev_, viscous_force_, viscous_rate_;
+  NodeStars stars_; // active elements around each node
   int damaged_points_ = 0;
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;

@@ -824,6 +824,97 @@ double FeSpace::von_mises(const double s[6])
   return std::sqrt(0.5 * (a * a + b * b + c * c) + 3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
 }
 
+/* ----------------------------------------------------------------------
+   bulk viscosity
+------------------------------------------------------------------------- */
+
+namespace
+{
+
+// Weighted current-configuration gradients of element block g: bw[3a + i] = sum_q w_q b_a,i(q)
+// with b_a = grad N_a (+ N_a / r e_x, the hoop part, in axisymmetric runs), so that
+// sum_a bw_a . v_a = W div v and the forces q bw_a do the work q W div v. Returns W = sum_q w_q.
+double weighted_gradients(ElemType t, const double* g, double bw[12])
+{
+  for (int k = 0; k < 12; ++k)
+    bw[k] = 0;
+  if (t == ElemType::Tet4) {
+    for (int k = 0; k < 12; ++k)
+      bw[k] = g[12] * g[k];
+    return g[12];
+  }
+  const int n = t == ElemType::Tri3 ? 3 : 4;
+  const int npts = t == ElemType::Tri3 ? 1 : 4;
+  const int stride = t == ElemType::Tri3 ? kTriBlock : kQuadPoint;
+  double W = 0;
+  for (int q = 0; q < npts; ++q) {
+    const double* gq = g + q * stride;
+    const double w = gq[2 * n];
+    const double* hoop = gq + 2 * n + 1;
+    for (int a = 0; a < n; ++a) {
+      bw[3 * a] += w * (gq[2 * a] + hoop[a]);
+      bw[3 * a + 1] += w * gq[2 * a + 1];
+    }
+    W += w;
+  }
+  return W;
+}
+
+} // namespace
+
+double FeSpace::element_damage(const Mesh& mesh, int e, const double* state) const
+{
+  if (mat_.model != MaterialModel::Rankine || !state) return 0.0;
+  const int per = material_model_info(mat_.model).state_per_point;
+  double d = 0, normal[3];
+  for (int q = 0; q < points_per_elem(mesh.etype[e]); ++q)
+    d = std::max(d, point_failure(mat_, state + state_offset_[e] + q * per, normal));
+  return std::min(d, 1.0);
+}
+
+void FeSpace::add_viscous_forces(const Mesh& mesh, const double* x, const double* v, int e_begin,
+                                 int e_end, const BulkViscosity& bv, const double* state, double* f,
+                                 double* force_scale, double* rate) const
+{
+  e_begin = std::max(e_begin, 0);
+  e_end = std::min(e_end, mesh.num_elems());
+  const double c = mat_.dilatational_wave_speed();
+  for (int e = e_begin; e < e_end; ++e) {
+    force_scale[e] = rate[e] = 0;
+    if (!mesh.active[e]) continue;
+    const ElemType t = mesh.etype[e];
+    const int n = nodes_per_elem(t);
+    const int* conn = mesh.conn[e].data();
+    double p[12], g[kQuadBlock], meas, value;
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        p[3 * a + i] = x[3 * conn[a] + i];
+    // An inverted element has no current gradients; it stops the run (or is eroded) anyway.
+    if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) != Geo::Ok) continue;
+    double bw[12], bw0[12];
+    const double W = weighted_gradients(t, g, bw);
+    const double W0 = weighted_gradients(t, &geo_[offset_[e]], bw0);
+    double div = 0; // W div v
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        div += bw[3 * a + i] * v[3 * conn[a] + i];
+    const double D = div / W;
+    rate[e] = D;
+    if (!(D < 0)) continue;
+    // The characteristic length of the stable-step bound, in the current configuration too.
+    const double w2 = omega2_of(mesh, e, g);
+    if (!(w2 > 0)) continue;
+    const double l = c * 2.0 / std::sqrt(w2);
+    const double rho = mat_.rho * W0 / W; // current density: mass conservation
+    const double q =
+        bulk_viscosity_pressure(bv, rho, c, l, D) * (1.0 - element_damage(mesh, e, state));
+    force_scale[e] = q * W;
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        f[3 * conn[a] + i] += q * bw[3 * a + i];
+  }
+}
+
 /* ---------------------------------------------------------------------- */
 
 // Provable upper bound of lambda_max(M_e^-1 K_e) for element e (lumped, diagonal M_e).
@@ -840,6 +931,19 @@ double FeSpace::von_mises(const double s[6])
 // stiffness neglected, as in all explicit codes); the bound is also taken with the geometry of
 // the current configuration x so strongly deformed elements are covered, and the larger wins.
 double FeSpace::omega2_bound(const Mesh& mesh, const double* x, int e) const
+{
+  if (!x) return omega2_of(mesh, e, nullptr);
+  const ElemType t = mesh.etype[e];
+  const int n = nodes_per_elem(t);
+  double p[12], g[kQuadBlock], meas, value;
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < 3; ++i)
+      p[3 * a + i] = x[3 * mesh.conn[e][a] + i];
+  const bool ok = element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) == Geo::Ok;
+  return omega2_of(mesh, e, ok ? g : nullptr);
+}
+
+double FeSpace::omega2_of(const Mesh& mesh, int e, const double* g_current) const
 {
   const ElemType t = mesh.etype[e];
   const int n = nodes_per_elem(t);
@@ -877,14 +981,7 @@ double FeSpace::omega2_bound(const Mesh& mesh, const double* x, int e) const
   };
 
   double C = bound_of(&geo_[offset_[e]]);
-  if (x) {
-    double p[12], g[kQuadBlock], meas, value;
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 3; ++i)
-        p[3 * a + i] = x[3 * mesh.conn[e][a] + i];
-    if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) == Geo::Ok)
-      C = std::max(C, bound_of(g));
-  }
+  if (g_current) C = std::max(C, bound_of(g_current));
   return C / mmin;
 }
 
@@ -894,8 +991,24 @@ double FeSpace::characteristic_length(const Mesh& mesh, const double* x, int e) 
   return w2 > 0 ? 2.0 / std::sqrt(w2) * mat_.dilatational_wave_speed() : 1e300;
 }
 
-double FeSpace::stable_time_step(const Mesh& mesh, const double* x) const
+double FeSpace::element_time_step(const Mesh& mesh, const double* x, int e, const BulkViscosity& bv,
+                                  double rate) const
 {
+  const double dt0 = element_time_step(mesh, x, e);
+  if (!bv.on || dt0 >= 1e300) return dt0;
+  const double c = mat_.dilatational_wave_speed();
+  return dt0 * damped_time_step_factor(bulk_viscosity_damping_ratio(bv, c, c * dt0, rate));
+}
+
+double FeSpace::stable_time_step(const Mesh& mesh, const double* x, const BulkViscosity* bv,
+                                 const double* rate) const
+{
+  if (bv && bv->on) {
+    double dt = 1e300;
+    for (int e = 0; e < mesh.num_elems(); ++e)
+      if (mesh.active[e]) dt = std::min(dt, element_time_step(mesh, x, e, *bv, rate ? rate[e] : 0));
+    return dt;
+  }
   double w2max = 0;
   for (int e = 0; e < mesh.num_elems(); ++e)
     if (mesh.active[e]) w2max = std::max(w2max, omega2_bound(mesh, x, e));

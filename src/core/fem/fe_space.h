@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "materials/bulk_viscosity.h"
 #include "materials/material.h"
 #include "fem/mesh.h"
 
@@ -66,15 +67,31 @@ public:
                       const double* state = nullptr) const;
   static double von_mises(const double s[6]);
 
+  // Bulk viscosity (materials/bulk_viscosity.h) of the active elements in [e_begin, e_end): adds
+  // the forces of each element's viscous pressure q, acting in the current configuration x with
+  // nodal velocities v, into f. Per element (0 where inactive or inverted): force_scale[e] = q W
+  // (W: current volume, or area times thickness / 2 pi r in 2D) and rate[e] = D, the element's
+  // volumetric strain rate, so the viscous forces do work q W D per unit time (<= 0). q is scaled
+  // by 1 - d with d the element's failure measure (Rankine damage), so a crack does not take
+  // viscous work on top of its fracture energy. state: as for add_internal_forces.
+  void add_viscous_forces(const Mesh& mesh, const double* x, const double* v, int e_begin,
+                          int e_end, const BulkViscosity& bv, const double* state, double* f,
+                          double* force_scale, double* rate) const;
+
   // Critical central-difference time step 2 / omega_max, with omega_max bounded from above
   // element by element by a provable bound of lambda_max(M_e^-1 K_e) (see fe_space.cpp), taken
   // over both the reference and the current configuration x. Returns 1e300 for no active elements.
-  double stable_time_step(const Mesh& mesh, const double* x) const;
+  // With bulk viscosity (bv on; rate: each element's last volumetric strain rate, or null for 0)
+  // each element's step is reduced by damped_time_step_factor of its damping ratio.
+  double stable_time_step(const Mesh& mesh, const double* x, const BulkViscosity* bv = nullptr,
+                          const double* rate = nullptr) const;
   double element_time_step(const Mesh& mesh, const double* x, int e) const
   {
     const double w2 = mesh.active[e] ? omega2_bound(mesh, x, e) : 0.0;
     return w2 > 0 ? 2.0 / std::sqrt(w2) : 1e300;
   }
+  double element_time_step(const Mesh& mesh, const double* x, int e, const BulkViscosity& bv,
+                           double rate) const;
   // Same bound for one element, expressed as characteristic length l_e = c * dt_e.
   double characteristic_length(const Mesh& mesh, const double* x, int e) const;
 
@@ -96,6 +113,11 @@ public:
 
 private:
   double omega2_bound(const Mesh& mesh, const double* x, int e) const;
+  // The same bound from the reference block and, if not null, element e's block g_current of
+  // the current configuration.
+  double omega2_of(const Mesh& mesh, int e, const double* g_current) const;
+  // Element e's failure measure (0 intact .. 1 no tension left; 0 for materials that do not fail).
+  double element_damage(const Mesh& mesh, int e, const double* state) const;
   void element_masses(const Mesh& mesh, int e, double me[4]) const;
 
   Material mat_;
