@@ -414,6 +414,10 @@ TEST(ContactResolution, ConvexRidgeGivesOneEdgeContact)
   EXPECT_EQ(clusters[0][0], 1); // deepest first
   const double apart[6] = {0, 0, 1, 1, 0, 0};
   EXPECT_EQ(cluster_hits(apart, overlaps, 2).size(), 2u);
+  // Like normals on two fragments (a sphere over the crack between them): two contacts.
+  const int same_piece[2] = {4, 4}, two_pieces[2] = {4, 9};
+  EXPECT_EQ(cluster_hits(normals, overlaps, 2, same_piece).size(), 1u);
+  EXPECT_EQ(cluster_hits(normals, overlaps, 2, two_pieces).size(), 2u);
 }
 
 namespace

@@ -35,6 +35,16 @@ Mesh two_squares(int n, double shift)
 int self_contact(const Mesh& m, double mu, const std::vector<double>& v,
                  const std::vector<double>& mass, std::vector<double>& f);
 
+// Velocities of two_squares' nodes with B approaching A at the speed that makes its overlap
+// delta within one step of dt (a penetration the step explains, so it is all pushed back).
+std::vector<double> approaching(int nn, double delta, double dt)
+{
+  std::vector<double> v(3 * nn, 0.0);
+  for (int n = nn / 2; n < nn; ++n)
+    v[3 * n] = -delta / dt;
+  return v;
+}
+
 SurfaceContactOptions options(double mu)
 {
   SurfaceContactOptions o;
@@ -65,7 +75,7 @@ TEST(SurfaceContact, OverlappingPiecesArePushedApartWithBalancedForces)
   const double delta = 0.01;
   const Mesh m = two_squares(2, 1.0 - delta);
   const int nn = m.num_nodes();
-  std::vector<double> v(3 * nn, 0.0), mass(nn, 1.0), f(3 * nn, 0.0);
+  std::vector<double> v = approaching(nn, delta, 1e-6), mass(nn, 1.0), f(3 * nn, 0.0);
   const int contacts = self_contact(m, 0.0, v, mass, f);
   EXPECT_EQ(contacts, 6);
   double fa = 0, fb = 0, fy = 0;
@@ -105,7 +115,7 @@ TEST(SurfaceContact, FrictionOpposesSlidingAndCannotReverseIt)
   const double delta = 0.01, mu = 0.3;
   const Mesh m = two_squares(2, 1.0 - delta);
   const int nn = m.num_nodes();
-  std::vector<double> v(3 * nn, 0.0), mass(nn, 1.0), f(3 * nn, 0.0);
+  std::vector<double> v = approaching(nn, delta, 1e-6), mass(nn, 1.0), f(3 * nn, 0.0);
   for (int n = nn / 2; n < nn; ++n)
     v[3 * n + 1] = 1.0;
   self_contact(m, mu, v, mass, f);
@@ -125,8 +135,8 @@ TEST(SurfaceContact, TwoBodiesGetTheSameForcesAsOneMeshOfTwoPieces)
   // facets of B and the reverse) give exactly the forces of the one-mesh self contact.
   const double delta = 0.02;
   const Mesh one = two_squares(2, 1.0 - delta);
-  std::vector<double> v1(3 * one.num_nodes(), 0.0), m1(one.num_nodes(), 1.0),
-      f1(3 * one.num_nodes(), 0.0);
+  std::vector<double> v1 = approaching(one.num_nodes(), delta, 1e-6), m1(one.num_nodes(), 1.0),
+                      f1(3 * one.num_nodes(), 0.0);
   self_contact(one, 0.0, v1, m1, f1);
   const Mesh a = make_rect_mesh(2, 2, 1.0, 1.0, {0, 0}, ElemType::Tri3);
   const Mesh b = make_rect_mesh(2, 2, 1.0, 1.0, {1.0 - delta, 0}, ElemType::Tri3);
@@ -134,17 +144,64 @@ TEST(SurfaceContact, TwoBodiesGetTheSameForcesAsOneMeshOfTwoPieces)
   sa.build(a, boundary_facets(a));
   sb.build(b, boundary_facets(b));
   const int n = a.num_nodes();
-  std::vector<double> v(3 * n, 0.0), m(n, 1.0), fa(3 * n, 0.0), fb(3 * n, 0.0);
-  const ContactBodyState st_a{a.X.data(), v.data(), m.data(), fa.data()};
-  const ContactBodyState st_b{b.X.data(), v.data(), m.data(), fb.data()};
+  std::vector<double> va(3 * n, 0.0), vb(v1.begin() + 3 * n, v1.end()), m(n, 1.0), fa(3 * n, 0.0),
+      fb(3 * n, 0.0);
+  const ContactBodyState st_a{a.X.data(), va.data(), m.data(), fa.data()};
+  const ContactBodyState st_b{b.X.data(), vb.data(), m.data(), fb.data()};
   SurfaceContact ab, ba;
   ab.configure(options(0.0));
   ba.configure(options(0.0));
   const int c =
       ab.evaluate(sa, st_a, sb, st_b, false, 1e-6) + ba.evaluate(sb, st_b, sa, st_a, false, 1e-6);
   EXPECT_EQ(c, 6);
+  EXPECT_GT(std::fabs(f1[3 * n]), 0.0); // the comparison is of real forces
   for (int k = 0; k < 3 * n; ++k) {
     EXPECT_NEAR(fa[k], f1[k], 1e-9);
     EXPECT_NEAR(fb[k], f1[3 * n + k], 1e-9);
   }
+}
+
+TEST(SurfaceContact, PenetrationTheStepCannotExplainReleasesNoEnergy)
+{
+  // The two squares overlap by delta but stand still (as after an erosion exposes a facet, or
+  // when pieces are placed overlapping): no force. B then moves in by eps within one step: only
+  // eps is pushed back. Moving out, the offset shrinks with the penetration (never a pull), and a
+  // contact that ends forgets its offset.
+  const double delta = 0.01, eps = 0.001, dt = 1e-6, k = 1e6 * 0.1;
+  Mesh m = two_squares(2, 1.0 - delta);
+  const int nn = m.num_nodes();
+  std::vector<double> v(3 * nn, 0.0), mass(nn, 1.0), f(3 * nn, 0.0);
+  ContactSurface surface;
+  surface.build(m, boundary_facets(m));
+  SurfaceContact sc;
+  sc.configure(options(0.0));
+  auto step = [&](double shift, double vx) {
+    for (int n = nn / 2; n < nn; ++n) {
+      m.X[3 * n] += shift;
+      v[3 * n] = vx;
+    }
+    std::fill(f.begin(), f.end(), 0.0);
+    const ContactBodyState st{m.X.data(), v.data(), mass.data(), f.data()};
+    const int c = sc.evaluate(surface, st, surface, st, true, dt);
+    double fb = 0;
+    for (int n = nn / 2; n < nn; ++n)
+      fb += f[3 * n];
+    return std::make_pair(c, fb);
+  };
+  auto [c0, f0] = step(0.0, 0.0);
+  EXPECT_EQ(c0, 6);
+  EXPECT_EQ(f0, 0.0);
+  auto [c1, f1] = step(-eps, -eps / dt);
+  EXPECT_EQ(c1, 6);
+  EXPECT_NEAR(f1, 6 * k * eps, 1e-6 * k * eps);
+  auto [c2, f2] = step(0.5 * delta + eps, 0.5 * delta / dt); // out to half the first overlap
+  EXPECT_EQ(c2, 6);
+  EXPECT_EQ(f2, 0.0);
+  auto [c3, f3] = step(-0.25 * delta, -0.25 * delta / dt); // back in by a quarter: all pushed
+  EXPECT_NEAR(f3, 6 * k * 0.25 * delta, 1e-6 * k * delta);
+  step(delta, 0.0); // apart: the contact ends
+  // Back in to an overlap of delta / 2 within one step: a fresh contact the step explains.
+  auto [c5, f5] = step(-0.75 * delta, -0.75 * delta / dt);
+  EXPECT_EQ(c5, 6);
+  EXPECT_NEAR(f5, 6 * k * 0.5 * delta, 1e-6 * k * delta);
 }

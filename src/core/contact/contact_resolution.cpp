@@ -149,7 +149,8 @@ std::vector<FacetHit> resolve_sphere_hits(std::vector<FacetHit> hits, const doub
 namespace fracdem
 {
 
-std::vector<std::vector<int>> cluster_hits(const double* nrm, const double* ov, int n, double cmax)
+std::vector<std::vector<int>> cluster_hits(const double* nrm, const double* ov, int n,
+                                           const int* pieces, double cmax)
 {
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i)
@@ -159,6 +160,7 @@ std::vector<std::vector<int>> cluster_hits(const double* nrm, const double* ov, 
   for (int i : order) {
     bool placed = false;
     for (auto& c : clusters) {
+      if (pieces && pieces[c[0]] != pieces[i]) continue;
       const double* l = nrm + 3 * c[0];
       const double* m = nrm + 3 * i;
       if (l[0] * m[0] + l[1] * m[1] + l[2] * m[2] >= cmax) {

@@ -48,8 +48,11 @@ namespace fracdem
 // sphere's own compliance once per facet and make the contact stiffer with every refinement.
 // Hits whose normals lie within `max_angle_cos` of the deepest hit's normal form one contact,
 // evaluated once at the deepest overlap; separate contacts (a sphere in a groove) stay separate.
+// Hits on different pieces (pieces[k], e.g. the surface's connected components: fragments of a
+// broken body) never share a contact, whatever their normals; nullptr: one piece.
 // normals: 3 per hit; overlaps: per hit. Returns clusters of hit indices, deepest first.
 std::vector<std::vector<int>> cluster_hits(const double* normals, const double* overlaps, int nhits,
+                                           const int* pieces = nullptr,
                                            double max_angle_cos = 0.866);
 
 } // namespace fracdem

@@ -94,6 +94,7 @@ public:
 
 private:
   void reference_normals(const Mesh& mesh);
+  void surface_pieces();
   bool search_is_stale(const ParticleArrays& p, const double* x, int nnodes);
   void rebuild_search(const ParticleArrays& p, const double* x, int nnodes);
   void search_spheres(const ParticleArrays& p, const std::vector<Aabb>& boxes);
@@ -134,6 +135,8 @@ private:
   std::vector<double> hit_centres_; // 3 per hit: the particle centre (or image) that made it
   std::vector<double> normals_, overlaps_, region_normals_;
   std::vector<double> facet_ref_normal_; // 3 per facet: outward normal in the reference state
+  std::vector<int> facet_piece_;         // per facet: connected component of the surface
+  std::vector<int> hit_pieces_;          // per hit: its facet's piece (scratch)
   std::vector<char> touched_;
   std::vector<int> checks_, contacts_;
   // Hertz patch

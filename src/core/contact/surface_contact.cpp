@@ -128,6 +128,37 @@ double SurfaceContact::stiffness(const double* q, const Facet& fc, const double*
   return opt_.penalty_scale * opt_.youngs * t;
 }
 
+// The penetration the penalty acts on: t.depth less the part of it that the relative approach
+// over the step cannot have produced (see the class notes).
+double SurfaceContact::effective_depth(int node, const Touch& t, const Facet& fc,
+                                       const ContactBodyState& a, const ContactBodyState& b,
+                                       double dt)
+{
+  if (static_cast<size_t>(node) >= last_eval_.size()) {
+    last_eval_.resize(node + 1, -1);
+    last_depth_.resize(node + 1, 0.0);
+    offset_.resize(node + 1, 0.0);
+  }
+  const bool continued = last_eval_[node] == eval_ - 1;
+  const double before = continued ? last_depth_[node] : 0.0;
+  double offset = continued ? offset_[node] : 0.0;
+  double approach = 0; // rate of growth of the penetration: -(v_node - v_facet) . n
+  for (int d = 0; d < 3; ++d) {
+    double vr = a.v[3 * node + d];
+    for (int j = 0; j < fc.nn; ++j)
+      vr -= t.w[j] * b.v[3 * fc.n[j] + d];
+    approach -= vr * t.normal[d];
+  }
+  // Twice the approach covers a facet that turns or deforms within the step.
+  const double explained = 2 * std::max(approach, 0.0) * dt;
+  offset += std::max(t.depth - before - explained, 0.0);
+  offset = std::min(offset, t.depth);
+  last_eval_[node] = eval_;
+  last_depth_[node] = t.depth;
+  offset_[node] = offset;
+  return t.depth - offset;
+}
+
 void SurfaceContact::apply(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
                            const ContactBodyState& b, double dt) const
 {
@@ -224,10 +255,13 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
       }
     }
     if (best.facet >= 0) {
-      apply(node, best, facets_of.facets[best.facet], a, b, dt);
+      const Facet& fc = facets_of.facets[best.facet];
+      best.depth = effective_depth(node, best, fc, a, b, dt);
+      apply(node, best, fc, a, b, dt);
       ++contacts;
     }
   }
+  ++eval_;
   return contacts;
 }
 

@@ -30,6 +30,13 @@ struct SurfaceContactOptions {
 // such facets the deepest wins (lowest index among equals), so a node has at most one contact.
 // Crack faces start closed (a split node and its copy coincide): they touch with zero
 // penetration and push apart only when the crack would close beyond contact.
+// Penetration that the motion of the step cannot explain (a contact that appears already deep:
+// after an erosion exposes a facet, a node passing a corner onto the next facet, pieces placed
+// overlapping) is not turned into force: the excess over twice the step's approach becomes an
+// offset that the penalty measures from, and the offset shrinks as the penetration does (as
+// LS-DYNA's IGNORE option treats initial penetrations). Without it such a contact releases
+// penalty energy that no work put in; with it the contact energy stays bounded by the work
+// of the approach. The offset is kept per node while the node stays in contact.
 // The boundary of one body for surface contact: facets, their nodes, facets around each node.
 struct ContactSurface {
   std::vector<Facet> facets;
@@ -76,11 +83,18 @@ private:
              const ContactBodyState& b, double dt) const;
   double stiffness(const double* q, const Facet& fc, const double* x) const;
   void rebuild_search(const ContactSurface& facets_of, const double* xb, int ns, double buffer);
+  double effective_depth(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
+                         const ContactBodyState& b, double dt);
 
   SurfaceContactOptions opt_;
   BufferedSearch search_{0.0};
   std::vector<double> sphere_, sx_, sxb_;
   bool stale_ = true;
+  // Per node of the contacting side: penetration and offset at its last contact, and the
+  // evaluation that contact belongs to (a contact continues only from the previous evaluation).
+  std::vector<double> last_depth_, offset_;
+  std::vector<long> last_eval_;
+  long eval_ = 0;
 };
 
 } // namespace fracdem
