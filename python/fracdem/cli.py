@@ -53,7 +53,7 @@ def main(argv=None):
             return 2
         plots.plot_fracture(df, a.group, a.component, out_prefix=a.output)
         print(f"peak load {s['peak_load']:.6g} N at displacement {s['displacement_at_peak']:.6g} m; "
-              f"fracture energy {s['fracture_energy']:.6g} J; {s['split_nodes']} split nodes, "
+              f"{s['dissipation_column'].replace('_', ' ')} {s['dissipated']:.6g} J; {s['split_nodes']} split nodes, "
               f"{s['fragments']} fragments")
         print(f"wrote {a.output}_load.png {a.output}_energy.png")
         return 0

@@ -6,6 +6,8 @@ import numpy as np
 import pandas as pd
 
 ENERGY_COLUMNS = ["step", "time", "kinetic", "strain", "external_work", "contact_work", "total", "nodes", "elements"]
+# The material's dissipation column: named after what dissipates (cracking or plastic flow).
+DISSIPATION_COLUMNS = ("fracture_energy", "plastic_work")
 
 
 def read_energy(path):
@@ -26,8 +28,11 @@ def fracture_summary(df, group, component="x"):
         raise KeyError(f"energy file has no group {group!r} (groups: {groups})")
     load = df[r].abs()
     k = int(load.idxmax())
+    dissipation = next((c for c in DISSIPATION_COLUMNS if c in df), None)
+    if dissipation is None:
+        raise KeyError(f"energy file has none of the dissipation columns {list(DISSIPATION_COLUMNS)}")
     return {"peak_load": float(load[k]), "displacement_at_peak": float(df[u][k]),
-            "fracture_energy": float(df["fracture_energy"].iloc[-1]),
+            "dissipation_column": dissipation, "dissipated": float(df[dissipation].iloc[-1]),
             "split_nodes": int(df["split_nodes"].iloc[-1]), "fragments": int(df["fragments"].iloc[-1])}
 
 

@@ -72,7 +72,7 @@ def plot_fracture(df, group, component="x", out_prefix=None):
     ax1.set_ylabel("load (N)")
     finish_figure(fig1, ax1, out=save and f"{out_prefix}_load.png", close=save)
     _, fig2, ax2 = new_figure(save)
-    for c in ("kinetic", "strain", "fracture_energy", "boundary_work"):
+    for c in ("kinetic", "strain", "fracture_energy", "plastic_work", "viscous_work", "boundary_work"):
         if c in df:
             ax2.plot(df["time"], df[c], label=c)
     ax2.set_xlabel("time (s)")
