@@ -41,6 +41,9 @@ public:
   double compute_vector(int) override;
 
   const fracdem::Body& body() const { return body_; }
+  // Particle contact: per local particle, its facet checks and contacts in the last evaluation
+  // (empty without `contact`); read by compute fracdem/cost.
+  const fracdem::ParticleFacetContact& contact() const { return contact_; }
 
 private:
   struct NodeVelocitySpec {

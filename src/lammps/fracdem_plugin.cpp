@@ -2,6 +2,7 @@
 #include "error.h"
 #include "lammps.h"
 
+#include "compute_fracdem_cost.h"
 #include "fix_fem_body_lammps.h"
 #include "plugin_version.h"
 
@@ -41,6 +42,16 @@ Fix* create_fix_fem_body(LAMMPS* lmp, int narg, char** arg)
   return new FixFemBodyLammps(lmp, narg, arg);
 }
 
+Fix* create_fix_fracdem_cost(LAMMPS* lmp, int narg, char** arg)
+{
+  return new FixFracdemCost(lmp, narg, arg);
+}
+
+Compute* create_compute_fracdem_cost(LAMMPS* lmp, int narg, char** arg)
+{
+  return new ComputeFracdemCost(lmp, narg, arg);
+}
+
 } // namespace
 
 extern "C" void lammpsplugin_init(void* lmp_ptr, void* handle, void* regfunc_ptr)
@@ -64,5 +75,18 @@ extern "C" void lammpsplugin_init(void* lmp_ptr, void* handle, void* regfunc_ptr
   plugin.name = "fem/body";
   plugin.info = "fracdem fix fem/body: finite-element body with particle contact (preview)";
   plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2*>(&create_fix_fem_body);
+  (*regfunc)(&plugin, lmp);
+
+  plugin.style = "compute";
+  plugin.name = "fracdem/cost";
+  plugin.info = "fracdem compute fracdem/cost: per-particle a posteriori cost for fix balance";
+  plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2*>(&create_compute_fracdem_cost);
+  (*regfunc)(&plugin, lmp);
+
+  // internal: created by compute fracdem/cost (per-atom sums that migrate with the atoms)
+  plugin.style = "fix";
+  plugin.name = "FRACDEM/COST";
+  plugin.info = "fracdem internal fix of compute fracdem/cost";
+  plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2*>(&create_fix_fracdem_cost);
   (*regfunc)(&plugin, lmp);
 }
