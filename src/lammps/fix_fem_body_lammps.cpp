@@ -5,11 +5,9 @@
 #include "fix_fem_body_lammps.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <climits>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <map>
 
@@ -23,11 +21,6 @@
 #include "neighbor.h"
 #include "update.h"
 
-#include "fem/body_motion.h"
-#include "fem/node_split.h"
-#include "io/gmsh_reader.h"
-#include "materials/material_table.h"
-
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
@@ -36,58 +29,12 @@ namespace
 
 const char* const kStyle = "fix fem/body";
 
-const std::map<std::string, fracdem::Kinematics> kKinematicsTable = {
-    {"elastic", fracdem::Kinematics::SmallStrain},
-    {"corotational", fracdem::Kinematics::Corotational},
-};
-const std::map<std::string, fracdem::PlaneMode> kPlaneModeTable = {
-    {"strain", fracdem::PlaneMode::PlaneStrain},
-    {"axisymmetric", fracdem::PlaneMode::Axisymmetric},
-    {"stress", fracdem::PlaneMode::PlaneStress},
-};
-
-// Keywords of docs/fix_fem_body.md that this preview does not implement yet: refused by name, so
-// that a LIGGGHTS input never runs silently without them.
-const char* const kNotYetSupported[] = {
-    "rigid", "motion", "eos", "fracture", "energy_file", "contact_bodies", "contact_penalty"};
-// The LIGGGHTS adapter's contact-law keywords: under LAMMPS the law is written after 'contact'.
-const char* const kLiggghtsLawKeywords[] = {"contact_model", "tangential"};
-
-const char* const kSupported = "type density youngs poisson model material(elastic) plane "
-                               "thickness fixed velocity prescribed_velocity scale move rotate "
-                               "dt_check gravity contact compliance buffer history_slots";
-
 const char* const kContactSyntax =
     "'contact granular hertz/material E COR NU damping coeff_restitution|tsuji tangential "
     "mindlin NULL XT MU|linear_nohistory XT 0 [rolling none] [twisting none]'";
 
 // Steps between checks that the body is still inside the box (besides every re-neighbouring).
 constexpr int kBoxCheckEvery = 100;
-
-// Global vector layout: the indices of the LIGGGHTS adapter (docs/fix_fem_body.md). Contact
-// entries stay 0 until particle contact is supported here.
-enum VectorIndex {
-  kKinetic = 0,
-  kStrain,
-  kExternalWork,
-  kContactWork,
-  kNodes,
-  kElements,
-  kContacts,
-  kForceX,
-  kForceY,
-  kForceZ,
-  kStableDt,
-  kSearchRebuilds,
-  kMomentumX,
-  kMomentumY,
-  kMomentumZ,
-  kDissipated,
-  kSplitNodes,
-  kFragments,
-  kBoundaryWork,
-  kVectorSize
-};
 
 // LAMMPS's 'damping tsuji' coefficient for a coefficient of restitution: Marshall 2009, eq. 53
 // (GranSubModDampingTsuji::init of LAMMPS 22 Jul 2025; later LAMMPS versions multiply it by
@@ -142,7 +89,7 @@ FixFemBodyLammps::FixFemBodyLammps(LAMMPS* lmp, int narg, char** arg) : Fix(lmp,
   scalar_flag = 1;
   extscalar = 1;
   vector_flag = 1;
-  size_vector = kVectorSize + 3 * static_cast<int>(reaction_groups_.size());
+  size_vector = fracdem::kVecSize + 3 * static_cast<int>(spec_.reaction_groups.size());
   extvector = 0;
   global_freq = 1;
   // time_integrate stays 0: this fix integrates FE nodes, never the host's atoms.
@@ -152,7 +99,7 @@ FixFemBodyLammps::FixFemBodyLammps(LAMMPS* lmp, int narg, char** arg) : Fix(lmp,
     // Tangential history per particle: this fix's own per-atom array, grown, copied (sorting)
     // and migrated (exchange) with the atoms through LAMMPS's callbacks.
     create_attribute = 1;
-    maxexchange = nslots_ * fracdem::kHistorySlotDoubles;
+    maxexchange = spec_.history_slots * fracdem::kHistorySlotDoubles;
     grow_arrays(atom->nmax);
     atom->add_callback(Atom::GROW);
     for (int i = 0; i < atom->nlocal; ++i)
@@ -173,337 +120,240 @@ int FixFemBodyLammps::setmask()
 
 /* ----------------------------------------------------------------------
    argument parsing: fix ID group fem/body file FILE keyword value ...
+   The core's keyword table (fracdem::parse_body_spec) restricted to what this
+   host supports; the contact law in LAMMPS's granular words (keyword 'contact').
 ------------------------------------------------------------------------- */
 
-double FixFemBodyLammps::number(const char* keyword, const char* word)
+namespace
 {
-  char* end = nullptr;
-  errno = 0;
-  const double v = strtod(word, &end);
-  if (end == word || *end != '\0' || errno == ERANGE || !std::isfinite(v))
-    error->all(FLERR, "{}: keyword '{}' expects a finite number, got '{}'", kStyle, keyword, word);
-  return v;
+
+// Keywords of the core's table that this host takes (the others are refused by name, so that a
+// LIGGGHTS input never runs silently without them), in the order its messages list them.
+const std::vector<fracdem::BodySpecHost::Supported> kSupported = {{"type"},
+                                                                  {"density"},
+                                                                  {"youngs"},
+                                                                  {"poisson"},
+                                                                  {"model"},
+                                                                  {"material", "elastic"},
+                                                                  {"plane"},
+                                                                  {"thickness"},
+                                                                  {"fixed"},
+                                                                  {"velocity"},
+                                                                  {"prescribed_velocity"},
+                                                                  {"scale"},
+                                                                  {"move"},
+                                                                  {"rotate"},
+                                                                  {"dt_check"},
+                                                                  {"gravity"},
+                                                                  {"contact"},
+                                                                  {"compliance"},
+                                                                  {"buffer"},
+                                                                  {"history_slots"}};
+
+// Only the default material; the others (rankine, j2, ...) come with fracture/history support.
+void parse_material_elastic(fracdem::SpecReader& r, fracdem::BodySpec&)
+{
+  r.need(1, "elastic");
+  if (r.word(1) != "elastic")
+    throw fracdem::SpecError("keyword 'material " + r.word(1) +
+                             "' is not yet supported under LAMMPS (only 'material elastic')");
+  r.take(2);
 }
 
-int FixFemBodyLammps::whole_number(const char* keyword, const char* word)
+// The LIGGGHTS adapter's contact-law keywords: under LAMMPS the law is written after 'contact'.
+void refuse_liggghts_law(fracdem::SpecReader& r, fracdem::BodySpec&)
 {
-  char* end = nullptr;
-  errno = 0;
-  const long long v = strtoll(word, &end, 10);
-  if (end == word || *end != '\0' || errno == ERANGE || v < INT_MIN || v > INT_MAX)
-    error->all(FLERR, "{}: keyword '{}' expects an integer, got '{}'", kStyle, keyword, word);
-  return static_cast<int>(v);
+  throw fracdem::SpecError(fmt::format("keyword '{}' is the LIGGGHTS adapter's; under LAMMPS the "
+                                       "contact law is written in LAMMPS's granular syntax after "
+                                       "keyword 'contact': {}",
+                                       r.keyword(), kContactSyntax));
 }
 
+[[noreturn]] void contact_fail(const std::string& what)
+{
+  throw fracdem::SpecError("keyword 'contact': " + what);
+}
+
+bool one_of(const std::string& word, std::initializer_list<const char*> names)
+{
+  return std::any_of(names.begin(), names.end(), [&](const char* n) { return word == n; });
+}
+
+// Word j after 'contact'; `what` names it when it is missing.
+const std::string& contact_word(const fracdem::SpecReader& r, std::size_t j, const char* what)
+{
+  if (!r.has(j)) contact_fail(fmt::format("expects {} ({})", what, kContactSyntax));
+  return r.word(j);
+}
+
+double contact_value(const fracdem::SpecReader& r, std::size_t j, const char* what)
+{
+  const std::string& w = contact_word(r, j, what);
+  try {
+    return fracdem::spec_number(what, w);
+  } catch (const fracdem::SpecError&) {
+    contact_fail(fmt::format("{} expects a finite number, got '{}'", what, w));
+  }
+}
+
+} // namespace
+
+// The core's table with this host's restrictions and its own 'contact' and 'material'.
 void FixFemBodyLammps::parse_arguments(int narg, char** arg)
 {
-  auto need = [&](int iarg, int n, const char* keyword, const char* what) {
-    if (iarg + n >= narg) error->all(FLERR, "{}: keyword '{}' expects {}", kStyle, keyword, what);
-  };
-  auto either = [&](int iarg, const char* keyword, const char* first, const char* second) {
-    need(iarg, 1, keyword, (std::string(first) + " or " + second).c_str());
-    if (!strcmp(arg[iarg + 1], first)) return true;
-    if (strcmp(arg[iarg + 1], second) != 0)
-      error->all(FLERR, "{}: keyword '{}' expects {} or {}", kStyle, keyword, first, second);
-    return false;
-  };
-  auto lookup = [&](const auto& table, const char* keyword, const char* value) {
-    auto it = table.find(value);
-    if (it == table.end()) {
-      std::string expected;
-      for (const auto& kv : table)
-        expected += " " + kv.first;
-      error->all(FLERR, "{}: keyword '{}' got '{}', expected one of:{}", kStyle, keyword, value,
-                 expected);
-    }
-    return it->second;
-  };
-  if (narg < 5 || strcmp(arg[3], "file") != 0)
-    error->all(FLERR,
-               "fix fem/body: expected 'fix ID group fem/body file MESH.msh keyword value ...'");
-  mesh_file_ = arg[4];
-
-  int iarg = 5;
-  while (iarg < narg) {
-    const char* kw = arg[iarg];
-    if (!strcmp(kw, "type")) {
-      need(iarg, 1, kw, "an atom type");
-      surface_type_ = whole_number(kw, arg[iarg + 1]);
-      iarg += 2;
-    } else if (!strcmp(kw, "density")) {
-      need(iarg, 1, kw, "a value");
-      material_.rho = number(kw, arg[iarg + 1]);
-      have_density_ = true;
-      iarg += 2;
-    } else if (!strcmp(kw, "youngs")) {
-      need(iarg, 1, kw, "a value");
-      material_.E = number(kw, arg[iarg + 1]);
-      have_youngs_ = true;
-      iarg += 2;
-    } else if (!strcmp(kw, "poisson")) {
-      need(iarg, 1, kw, "a value");
-      material_.nu = number(kw, arg[iarg + 1]);
-      have_poisson_ = true;
-      iarg += 2;
-    } else if (!strcmp(kw, "model")) {
-      need(iarg, 1, kw, "elastic or corotational");
-      material_.kinematics = lookup(kKinematicsTable, kw, arg[iarg + 1]);
-      iarg += 2;
-    } else if (!strcmp(kw, "material")) {
-      // Only the default model; the others (rankine, j2, ...) come with fracture/history support.
-      need(iarg, 1, kw, "elastic");
-      if (strcmp(arg[iarg + 1], "elastic") != 0)
-        error->all(FLERR,
-                   "{}: keyword 'material {}' is not yet supported under LAMMPS (only "
-                   "'material elastic')",
-                   kStyle, arg[iarg + 1]);
-      iarg += 2;
-    } else if (!strcmp(kw, "plane")) {
-      need(iarg, 1, kw, "strain, stress or axisymmetric");
-      material_.plane = lookup(kPlaneModeTable, kw, arg[iarg + 1]);
-      have_plane_ = true;
-      iarg += 2;
-    } else if (!strcmp(kw, "thickness")) {
-      need(iarg, 1, kw, "a value");
-      material_.thickness = number(kw, arg[iarg + 1]);
-      if (material_.thickness <= 0)
-        error->all(FLERR, "{}: keyword 'thickness' must be > 0", kStyle);
-      iarg += 2;
-    } else if (!strcmp(kw, "fixed")) {
-      need(iarg, 1, kw, "a mesh physical group name [x] [y] [z]");
-      FixedSpec f{arg[iarg + 1], 0, reaction_group(arg[iarg + 1])};
-      iarg += 2;
-      for (; iarg < narg && strlen(arg[iarg]) == 1 && strchr("xyz", arg[iarg][0]); ++iarg)
-        f.mask |= 1 << (arg[iarg][0] - 'x');
-      if (f.mask == 0) f.mask = 7; // no component named: all
-      fixed_sets_.push_back(f);
-    } else if (!strcmp(kw, "velocity") || !strcmp(kw, "prescribed_velocity")) {
-      need(iarg, 4, kw, "GROUP vx vy vz");
-      NodeVelocitySpec s;
-      s.set = arg[iarg + 1];
-      for (int d = 0; d < 3; ++d)
-        s.v[d] = number(kw, arg[iarg + 2 + d]);
-      iarg += 5;
-      if (kw[0] == 'v') {
-        initial_velocity_.push_back(s);
-        continue;
-      }
-      s.group = reaction_group(s.set);
-      if (iarg + 1 < narg && !strcmp(arg[iarg], "ramp")) {
-        s.ramp = number("prescribed_velocity ... ramp", arg[iarg + 1]);
-        if (s.ramp <= 0)
-          error->all(FLERR, "{}: keyword 'prescribed_velocity ... ramp T' needs T > 0", kStyle);
-        iarg += 2;
-      }
-      prescribed_velocity_.push_back(s);
-    } else if (!strcmp(kw, "scale")) {
-      need(iarg, 1, kw, "a factor");
-      fracdem::MeshTransform t{fracdem::MeshTransform::Scale, {number(kw, arg[iarg + 1]), 0, 0, 0}};
-      if (t.a[0] <= 0) error->all(FLERR, "{}: keyword 'scale' must be > 0", kStyle);
-      transforms_.push_back(t);
-      iarg += 2;
-    } else if (!strcmp(kw, "move")) {
-      need(iarg, 3, kw, "dx dy dz");
-      fracdem::MeshTransform t{fracdem::MeshTransform::Move, {0, 0, 0, 0}};
-      for (int d = 0; d < 3; ++d)
-        t.a[d] = number(kw, arg[iarg + 1 + d]);
-      transforms_.push_back(t);
-      iarg += 4;
-    } else if (!strcmp(kw, "rotate")) {
-      need(iarg, 6, kw, "axis ax ay az angle DEGREES");
-      if (strcmp(arg[iarg + 1], "axis") || strcmp(arg[iarg + 5], "angle"))
-        error->all(FLERR, "{}: keyword 'rotate' expects 'axis ax ay az angle DEGREES'", kStyle);
-      fracdem::MeshTransform t{fracdem::MeshTransform::Rotate, {0, 0, 0, 0}};
-      for (int d = 0; d < 3; ++d)
-        t.a[d] = number(kw, arg[iarg + 2 + d]);
-      t.a[3] = number(kw, arg[iarg + 6]) * M_PI / 180.0;
-      if (!fracdem::valid_axis(t.a))
-        error->all(FLERR,
-                   "{}: keyword 'rotate' got axis {} {} {}, expected a non-zero axis "
-                   "direction ax ay az",
-                   kStyle, arg[iarg + 2], arg[iarg + 3], arg[iarg + 4]);
-      transforms_.push_back(t);
-      iarg += 7;
-    } else if (!strcmp(kw, "dt_check")) {
-      dt_check_error_ = either(iarg, kw, "error", "warn");
-      iarg += 2;
-    } else if (!strcmp(kw, "gravity")) {
-      apply_gravity_ = either(iarg, kw, "yes", "no");
-      iarg += 2;
-    } else if (!strcmp(kw, "contact")) {
-      iarg = parse_contact(iarg, narg, arg);
-    } else if (!strcmp(kw, "compliance")) {
-      law_.combined = !either(iarg, kw, "particle", "combined");
-      iarg += 2;
-    } else if (!strcmp(kw, "buffer")) {
-      need(iarg, 1, kw, "a length");
-      buffer_ = number(kw, arg[iarg + 1]);
-      if (buffer_ < 0) error->all(FLERR, "{}: keyword 'buffer' must be >= 0", kStyle);
-      iarg += 2;
-    } else if (!strcmp(kw, "history_slots")) {
-      need(iarg, 1, kw, "an integer 1 .. 64");
-      nslots_ = whole_number(kw, arg[iarg + 1]);
-      if (nslots_ < 1 || nslots_ > 64)
-        error->all(FLERR, "{}: keyword 'history_slots' expects 1 .. 64", kStyle);
-      iarg += 2;
-    } else if (std::any_of(std::begin(kLiggghtsLawKeywords), std::end(kLiggghtsLawKeywords),
-                           [&](const char* k) { return !strcmp(k, kw); })) {
-      error->all(FLERR,
-                 "{}: keyword '{}' is the LIGGGHTS adapter's; under LAMMPS the contact law is "
-                 "written in LAMMPS's granular syntax after keyword 'contact': {}",
-                 kStyle, kw, kContactSyntax);
-    } else if (std::any_of(std::begin(kNotYetSupported), std::end(kNotYetSupported),
-                           [&](const char* k) { return !strcmp(k, kw); })) {
-      error->all(FLERR, "{}: keyword '{}' is not yet supported under LAMMPS (supported: {})",
-                 kStyle, kw, kSupported);
-    } else {
-      error->all(FLERR, "{}: unknown keyword '{}' (supported under LAMMPS: {})", kStyle, kw,
-                 kSupported);
-    }
+  fracdem::BodySpecHost host;
+  host.name = "LAMMPS";
+  host.supported = kSupported;
+  host.own["material"] = parse_material_elastic;
+  host.own["contact_model"] = host.own["tangential"] = refuse_liggghts_law;
+  host.own["contact"] = [this](fracdem::SpecReader& r, fracdem::BodySpec&) { parse_contact(r); };
+  try {
+    spec_ = fracdem::parse_body_spec(std::vector<std::string>(arg + 3, arg + narg), host);
+    fracdem::check_body_spec(spec_, host, atom->ntypes, domain->dimension);
+  } catch (const fracdem::SpecError& e) {
+    error->all(FLERR, fracdem::fix_message(e, id));
   }
-  check_arguments();
-}
-
-int FixFemBodyLammps::reaction_group(const std::string& set)
-{
-  auto it = std::find(reaction_groups_.begin(), reaction_groups_.end(), set);
-  if (it != reaction_groups_.end()) return static_cast<int>(it - reaction_groups_.begin());
-  reaction_groups_.push_back(set);
-  return static_cast<int>(reaction_groups_.size()) - 1;
 }
 
 // contact granular NORMAL ... [damping D] [tangential T ...] [rolling none] [twisting none]:
 // the words of LAMMPS's pair granular / fix wall/gran for one material, the supported subset.
-// What the core's law cannot express is refused by name. Returns the index after the law.
-int FixFemBodyLammps::parse_contact(int iarg, int narg, char** arg)
+// What the core's law cannot express is refused by name (SpecError).
+void FixFemBodyLammps::parse_contact(fracdem::SpecReader& r)
 {
-  auto fail = [&](const std::string& what) {
-    error->all(FLERR, "{}: keyword 'contact': {}", kStyle, what);
-  };
-  auto word = [&](int i, const char* what) -> const char* {
-    if (i >= narg) fail(fmt::format("expects {} ({})", what, kContactSyntax));
-    return arg[i];
-  };
-  auto value = [&](int i, const char* what) {
-    const char* w = word(i, what);
-    char* end = nullptr;
-    errno = 0;
-    const double v = strtod(w, &end);
-    if (end == w || *end != '\0' || errno == ERANGE || !std::isfinite(v))
-      fail(fmt::format("{} expects a finite number, got '{}'", what, w));
-    return v;
-  };
-  if (law_.on) fail("given twice");
+  using Option = std::size_t (FixFemBodyLammps::*)(const fracdem::SpecReader&, std::size_t);
+  static const std::map<std::string, Option> options = {
+      {"damping", &FixFemBodyLammps::parse_contact_damping},
+      {"tangential", &FixFemBodyLammps::parse_contact_tangential},
+      {"rolling", &FixFemBodyLammps::parse_contact_none},
+      {"twisting", &FixFemBodyLammps::parse_contact_none},
+      {"heat", &FixFemBodyLammps::parse_contact_unsupported},
+      {"limit_damping", &FixFemBodyLammps::parse_contact_unsupported},
+      {"synchronized_verlet", &FixFemBodyLammps::parse_contact_unsupported}};
+  if (law_.on) contact_fail("given twice");
   law_.on = true;
-
-  const char* style = word(iarg + 1, "a granular style");
-  if (!strcmp(style, "hooke") || !strcmp(style, "hooke/history") || !strcmp(style, "hertz/history"))
-    fail(fmt::format("style '{}' (the classic fix wall/gran styles) is not supported: write the "
-                     "law with the granular models, {}",
-                     style, kContactSyntax));
-  if (strcmp(style, "granular") != 0)
-    fail(fmt::format("expects 'granular', got '{}' ({})", style, kContactSyntax));
-
-  // normal model
-  const char* normal = word(iarg + 2, "a normal model");
-  if (!strcmp(normal, "hooke") || !strcmp(normal, "hertz"))
-    fail(fmt::format("normal model '{}' is not supported: the core's laws take the stiffness from "
-                     "the materials' elastic moduli (Hertz with E*), not a given k_n; use "
-                     "'hertz/material E COR NU'",
-                     normal));
-  if (!strcmp(normal, "dmt") || !strcmp(normal, "jkr") || !strcmp(normal, "mdr"))
-    fail(fmt::format("normal model '{}' is not supported: the core has no adhesion or plastic "
-                     "contact; use 'hertz/material E COR NU'",
-                     normal));
-  if (strcmp(normal, "hertz/material") != 0)
-    fail(fmt::format("unknown normal model '{}' (supported: hertz/material)", normal));
-  law_.E = value(iarg + 3, "hertz/material E");
-  law_.cor = value(iarg + 4, "hertz/material COR (the damping coefficient)");
-  law_.nu = value(iarg + 5, "hertz/material NU");
-  if (law_.E <= 0) fail("hertz/material E must be > 0");
-  if (law_.nu <= -1.0 || law_.nu >= 0.5) fail("hertz/material NU must lie in (-1, 0.5)");
-  iarg += 6;
-
+  parse_contact_normal(r);
+  std::size_t j = 6;
   bool have_damping = false, have_tangential = false;
-  while (iarg < narg) {
-    const char* kw = arg[iarg];
-    if (!strcmp(kw, "damping")) {
-      const char* d = word(iarg + 1, "a damping model");
-      if (!strcmp(d, "coeff_restitution") || !strcmp(d, "tsuji")) {
-        law_.tsuji = d[0] == 't';
-      } else if (!strcmp(d, "viscoelastic") || !strcmp(d, "velocity") ||
-                 !strcmp(d, "mass_velocity") || !strcmp(d, "none") || !strcmp(d, "mdr")) {
-        fail(fmt::format("damping model '{}' is not supported: the core's damping force is "
-                         "D sqrt(m F_ne / delta) v_n (LIGGGHTS's), as LAMMPS's "
-                         "coeff_restitution and tsuji are; use 'damping coeff_restitution' or "
-                         "'damping tsuji'",
-                         d));
-      } else {
-        fail(fmt::format("unknown damping model '{}' (supported: coeff_restitution tsuji)", d));
-      }
-      have_damping = true;
-      iarg += 2;
-    } else if (!strcmp(kw, "tangential")) {
-      const char* t = word(iarg + 1, "a tangential model");
-      if (!strcmp(t, "mindlin")) {
-        const char* k = word(iarg + 2, "tangential mindlin k_t");
-        if (strcmp(k, "NULL") != 0)
-          fail(fmt::format("tangential mindlin k_t = {} is not supported: the core's tangential "
-                           "stiffness is 8 G* a from the materials; write NULL",
-                           k));
-        law_.history = true;
-        law_.xt = value(iarg + 3, "tangential mindlin XT");
-        law_.mu = value(iarg + 4, "tangential mindlin MU");
-        iarg += 5;
-      } else if (!strcmp(t, "linear_nohistory")) {
-        law_.history = false;
-        law_.xt = value(iarg + 2, "tangential linear_nohistory XT");
-        law_.mu = value(iarg + 3, "tangential linear_nohistory MU");
-        if (law_.mu != 0)
-          fail("tangential linear_nohistory is supported frictionless only (MU = 0): with "
-               "friction write 'tangential mindlin NULL XT MU'");
-        iarg += 4;
-      } else if (!strcmp(t, "linear_history") || !strcmp(t, "linear_history_classic") ||
-                 !strcmp(t, "mindlin_classic") || !strcmp(t, "mindlin/force") ||
-                 !strcmp(t, "mindlin_rescale") || !strcmp(t, "mindlin_rescale/force")) {
-        fail(fmt::format("tangential model '{}' is not supported: the core's tangential spring "
-                         "is Mindlin's 8 G* a with Coulomb friction; use 'tangential mindlin "
-                         "NULL XT MU'",
-                         t));
-      } else {
-        fail(fmt::format("unknown tangential model '{}' (supported: mindlin NULL XT MU, "
-                         "linear_nohistory XT 0)",
-                         t));
-      }
-      if (law_.xt < 0 || law_.mu < 0) fail("tangential XT and MU must be >= 0");
-      have_tangential = true;
-    } else if (!strcmp(kw, "rolling") || !strcmp(kw, "twisting")) {
-      const char* m = word(iarg + 1, "a model");
-      if (strcmp(m, "none") != 0)
-        fail(fmt::format("{} model '{}' is not supported (the core has no {} resistance): leave "
-                         "it out or write '{} none'",
-                         kw, m, kw, kw));
-      iarg += 2;
-    } else if (!strcmp(kw, "heat") || !strcmp(kw, "limit_damping") ||
-               !strcmp(kw, "synchronized_verlet")) {
-      fail(fmt::format("option '{}' is not supported", kw));
-    } else {
-      break; // the next keyword of fix fem/body
-    }
+  while (r.has(j)) {
+    auto it = options.find(r.word(j));
+    if (it == options.end()) break; // the next keyword of fix fem/body
+    have_damping |= it->first == "damping";
+    have_tangential |= it->first == "tangential";
+    j = (this->*(it->second))(r, j);
   }
   if (!have_damping)
-    fail("needs 'damping coeff_restitution' or 'damping tsuji': LAMMPS's default damping "
-         "(viscoelastic, where the second hertz/material value is eta_n0, not a restitution) "
-         "is not supported");
+    contact_fail("needs 'damping coeff_restitution' or 'damping tsuji': LAMMPS's default damping "
+                 "(viscoelastic, where the second hertz/material value is eta_n0, not a "
+                 "restitution) is not supported");
   if (!have_tangential)
-    fail(fmt::format("needs a tangential model, as LAMMPS's granular styles do: 'tangential "
-                     "mindlin NULL XT MU' or 'tangential linear_nohistory XT 0' ({})",
-                     kContactSyntax));
+    contact_fail(fmt::format("needs a tangential model, as LAMMPS's granular styles do: "
+                             "'tangential mindlin NULL XT MU' or 'tangential linear_nohistory XT "
+                             "0' ({})",
+                             kContactSyntax));
   if (law_.cor <= 0 || law_.cor > 1)
-    fail(fmt::format("damping {} needs a coefficient of restitution COR in (0, 1] (the second "
-                     "hertz/material value), got {}",
-                     law_.tsuji ? "tsuji" : "coeff_restitution", law_.cor));
-  return iarg;
+    contact_fail(fmt::format("damping {} needs a coefficient of restitution COR in (0, 1] (the "
+                             "second hertz/material value), got {}",
+                             law_.tsuji ? "tsuji" : "coeff_restitution", law_.cor));
+  r.take(j);
+}
+
+// granular hertz/material E COR NU (words 1 to 5 after 'contact').
+void FixFemBodyLammps::parse_contact_normal(const fracdem::SpecReader& r)
+{
+  const std::string& style = contact_word(r, 1, "a granular style");
+  if (one_of(style, {"hooke", "hooke/history", "hertz/history"}))
+    contact_fail(fmt::format("style '{}' (the classic fix wall/gran styles) is not supported: "
+                             "write the law with the granular models, {}",
+                             style, kContactSyntax));
+  if (style != "granular")
+    contact_fail(fmt::format("expects 'granular', got '{}' ({})", style, kContactSyntax));
+  const std::string& normal = contact_word(r, 2, "a normal model");
+  if (one_of(normal, {"hooke", "hertz"}))
+    contact_fail(fmt::format("normal model '{}' is not supported: the core's laws take the "
+                             "stiffness from the materials' elastic moduli (Hertz with E*), not "
+                             "a given k_n; use 'hertz/material E COR NU'",
+                             normal));
+  if (one_of(normal, {"dmt", "jkr", "mdr"}))
+    contact_fail(fmt::format("normal model '{}' is not supported: the core has no adhesion or "
+                             "plastic contact; use 'hertz/material E COR NU'",
+                             normal));
+  if (normal != "hertz/material")
+    contact_fail(fmt::format("unknown normal model '{}' (supported: hertz/material)", normal));
+  law_.E = contact_value(r, 3, "hertz/material E");
+  law_.cor = contact_value(r, 4, "hertz/material COR (the damping coefficient)");
+  law_.nu = contact_value(r, 5, "hertz/material NU");
+  if (law_.E <= 0) contact_fail("hertz/material E must be > 0");
+  if (law_.nu <= -1.0 || law_.nu >= 0.5) contact_fail("hertz/material NU must lie in (-1, 0.5)");
+}
+
+// damping coeff_restitution|tsuji; returns the index after it.
+std::size_t FixFemBodyLammps::parse_contact_damping(const fracdem::SpecReader& r, std::size_t j)
+{
+  const std::string& d = contact_word(r, j + 1, "a damping model");
+  if (one_of(d, {"viscoelastic", "velocity", "mass_velocity", "none", "mdr"}))
+    contact_fail(fmt::format("damping model '{}' is not supported: the core's damping force is "
+                             "D sqrt(m F_ne / delta) v_n (LIGGGHTS's), as LAMMPS's "
+                             "coeff_restitution and tsuji are; use 'damping coeff_restitution' "
+                             "or 'damping tsuji'",
+                             d));
+  if (!one_of(d, {"coeff_restitution", "tsuji"}))
+    contact_fail(fmt::format("unknown damping model '{}' (supported: coeff_restitution tsuji)", d));
+  law_.tsuji = d == "tsuji";
+  return j + 2;
+}
+
+// tangential mindlin NULL XT MU | linear_nohistory XT 0; returns the index after it.
+std::size_t FixFemBodyLammps::parse_contact_tangential(const fracdem::SpecReader& r, std::size_t j)
+{
+  const std::string& t = contact_word(r, j + 1, "a tangential model");
+  if (t == "mindlin") {
+    const std::string& k = contact_word(r, j + 2, "tangential mindlin k_t");
+    if (k != "NULL")
+      contact_fail(fmt::format("tangential mindlin k_t = {} is not supported: the core's "
+                               "tangential stiffness is 8 G* a from the materials; write NULL",
+                               k));
+    law_.history = true;
+    law_.xt = contact_value(r, j + 3, "tangential mindlin XT");
+    law_.mu = contact_value(r, j + 4, "tangential mindlin MU");
+    j += 5;
+  } else if (t == "linear_nohistory") {
+    law_.history = false;
+    law_.xt = contact_value(r, j + 2, "tangential linear_nohistory XT");
+    law_.mu = contact_value(r, j + 3, "tangential linear_nohistory MU");
+    if (law_.mu != 0)
+      contact_fail("tangential linear_nohistory is supported frictionless only (MU = 0): with "
+                   "friction write 'tangential mindlin NULL XT MU'");
+    j += 4;
+  } else if (one_of(t, {"linear_history", "linear_history_classic", "mindlin_classic",
+                        "mindlin/force", "mindlin_rescale", "mindlin_rescale/force"})) {
+    contact_fail(fmt::format("tangential model '{}' is not supported: the core's tangential "
+                             "spring is Mindlin's 8 G* a with Coulomb friction; use 'tangential "
+                             "mindlin NULL XT MU'",
+                             t));
+  } else {
+    contact_fail(fmt::format("unknown tangential model '{}' (supported: mindlin NULL XT MU, "
+                             "linear_nohistory XT 0)",
+                             t));
+  }
+  if (law_.xt < 0 || law_.mu < 0) contact_fail("tangential XT and MU must be >= 0");
+  return j;
+}
+
+// rolling none | twisting none: the core has no rolling or twisting resistance.
+std::size_t FixFemBodyLammps::parse_contact_none(const fracdem::SpecReader& r, std::size_t j)
+{
+  const std::string& kw = r.word(j);
+  const std::string& m = contact_word(r, j + 1, "a model");
+  if (m != "none")
+    contact_fail(fmt::format("{} model '{}' is not supported (the core has no {} resistance): "
+                             "leave it out or write '{} none'",
+                             kw, m, kw, kw));
+  return j + 2;
+}
+
+std::size_t FixFemBodyLammps::parse_contact_unsupported(const fracdem::SpecReader& r, std::size_t j)
+{
+  contact_fail(fmt::format("option '{}' is not supported", r.word(j)));
 }
 
 // The core's ContactMaterial for the law: E* and G* from the particle's material (hertz/material
@@ -513,7 +363,7 @@ void FixFemBodyLammps::contact_setup()
 {
   const double D = law_.tsuji ? tsuji_coefficient(law_.cor) : 0.0;
   const double e = law_.tsuji ? restitution_for_damping(D) : law_.cor;
-  const double Eb = law_.combined ? material_.E : 0.0, nub = law_.combined ? material_.nu : 0.0;
+  const double Eb = combined() ? spec_.material.E : 0.0, nub = combined() ? spec_.material.nu : 0.0;
   contact_material_ = fracdem::mix_materials(law_.E, law_.nu, Eb, nub, e, law_.mu, 1.0,
                                              fracdem::NormalModel::Hertz, law_.history);
   // The core ties the tangential damping to the normal one (LIGGGHTS): eta_t / eta_n =
@@ -525,37 +375,16 @@ void FixFemBodyLammps::contact_setup()
                "tangential damping is tied to its normal damping as in LIGGGHTS, XT = 2 "
                "sqrt(G*/E*) = {:.6f} for this particle material{}; write that value (any XT is "
                "accepted with MU = 0)",
-               kStyle, law_.xt, xt_core, law_.combined ? " and body" : "");
+               kStyle, law_.xt, xt_core, combined() ? " and body" : "");
   log_line(fmt::format("fix fem/body {}: contact hertz/material E* {:.6g} G* {:.6g} ({}), damping "
                        "{} COR {:g}{}, tangential {} XT {:.6g} MU {:g}\n",
                        id, contact_material_.Yeff, contact_material_.Geff,
-                       law_.combined ? "particle and body compliance"
-                                     : "particle compliance; the body's from its elements",
+                       combined() ? "particle and body compliance"
+                                  : "particle compliance; the body's from its elements",
                        law_.tsuji ? "tsuji" : "coeff_restitution", law_.cor,
                        law_.tsuji ? fmt::format(" (core restitution {:.6g})", e) : "",
                        law_.history ? "mindlin" : "linear_nohistory", law_.history ? xt_core : 0.0,
                        law_.mu));
-}
-
-void FixFemBodyLammps::check_arguments()
-{
-  // 'type' names the atom type of the body's surface for particle contact; required now, as in
-  // the LIGGGHTS adapter, so that inputs need no change when contact arrives.
-  if (surface_type_ < 1 || surface_type_ > atom->ntypes)
-    error->all(FLERR, "{}: keyword 'type' is required and must be an atom type between 1 and {}",
-               kStyle, atom->ntypes);
-  if (!have_density_ || !have_youngs_ || !have_poisson_)
-    error->all(FLERR, "{}: a deformable body needs keywords 'density', 'youngs' and 'poisson'",
-               kStyle);
-  if (material_.rho <= 0 || material_.E <= 0)
-    error->all(FLERR, "{}: 'density' and 'youngs' must be > 0", kStyle);
-  if (material_.nu <= -1.0 || material_.nu >= 0.5)
-    error->all(FLERR, "{}: 'poisson' must lie in (-1, 0.5)", kStyle);
-  if (have_plane_ && domain->dimension == 3)
-    error->all(FLERR,
-               "{}: keyword 'plane' applies to 2D runs ('dimension 2'); this run is 3D "
-               "(leave out 'plane')",
-               kStyle);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -567,86 +396,26 @@ void FixFemBodyLammps::log_line(const std::string& line) const
 
 void FixFemBodyLammps::load_mesh()
 {
-  fracdem::Mesh mesh;
   try {
-    mesh = fracdem::read_gmsh(mesh_file_, domain->dimension);
-  } catch (const std::exception& e) {
-    error->all(FLERR, "{} {}: cannot use mesh: {}", kStyle, id, e.what());
+    fracdem::build_body(spec_, domain->dimension, body_);
+  } catch (const fracdem::SpecError& e) {
+    error->all(FLERR, fracdem::fix_message(e, id));
   }
-  if (mesh.dim != domain->dimension)
-    error->all(FLERR, "{}: mesh '{}' is {}D but the simulation is {}D", kStyle, mesh_file_,
-               mesh.dim, domain->dimension);
-  bool in_plane = false;
-  try {
-    in_plane = fracdem::apply_transforms(mesh, transforms_);
-  } catch (const std::exception& e) {
-    error->all(FLERR, "{} {}: keyword 'rotate': {}", kStyle, id, e.what());
-  }
-  if (!in_plane)
-    error->all(FLERR, "{}: 2D mesh must stay in the z = 0 plane after 'move'/'rotate'", kStyle);
-  for (int e = 0; e < mesh.num_elems(); ++e)
-    if (!fracdem::element_geometry_finite(mesh, e))
-      error->all(FLERR,
-                 "{} {}: keyword 'scale'/'move'/'rotate': element {} of '{}' overflows "
-                 "double precision",
-                 kStyle, id, e, mesh_file_);
-  const std::string material_error = fracdem::material_setup_error(material_, mesh.dim);
-  if (!material_error.empty()) error->all(FLERR, "{} {}: {}", kStyle, id, material_error);
-
-  try {
-    body_.build(std::move(mesh), material_, false);
-  } catch (const std::exception& e) {
-    error->all(FLERR, "{} {}: bad mesh '{}': {}", kStyle, id, mesh_file_, e.what());
-  }
-  for (const auto& s : fixed_sets_)
-    body_.set_fixed(node_set(s.set, "fixed"), s.mask, s.group);
-  for (const auto& s : prescribed_velocity_)
-    body_.set_prescribed_velocity(node_set(s.set, "prescribed_velocity"), s.v, s.ramp, s.group);
-  for (const auto& s : initial_velocity_)
-    node_set(s.set, "velocity"); // validate names now
-
   // As in the LIGGGHTS adapter: every rank holds the whole body; the element work of a material
   // without history is split evenly and the forces summed, so all replicas stay identical.
-  split_element_work_ = body_.space().state_size() == 0 && comm->nprocs > 1;
-  if (split_element_work_) {
-    const long long ne = body_.mesh().num_elems();
-    body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
-                            static_cast<int>((ne * (comm->me + 1)) / comm->nprocs));
-  }
+  split_element_work_ = fracdem::split_element_work(body_, comm->me, comm->nprocs);
   if (law_.on) contact_.rebuild_surface(body_.mesh());
   log_line(fmt::format(
       "fix fem/body {}: {}, {} nodes, {} elements, {} boundary facets, "
       "deformable {} (LAMMPS host{})\n",
-      id, mesh_file_, body_.num_nodes(), body_.mesh().num_elems(), contact_.facets().size(),
-      material_.kinematics == fracdem::Kinematics::Corotational ? "corotational"
-                                                                : "small-strain elastic",
+      id, spec_.mesh_file, body_.num_nodes(), body_.mesh().num_elems(), contact_.facets().size(),
+      spec_.material.kinematics == fracdem::Kinematics::Corotational ? "corotational"
+                                                                     : "small-strain elastic",
       law_.on ? "" : ", no particle contact"));
   if (law_.on) {
     contact_setup();
     check_in_box("as placed");
   }
-}
-
-std::vector<int> FixFemBodyLammps::node_set(const std::string& name, const char* keyword) const
-{
-  const fracdem::Mesh& mesh = body_.mesh();
-  if (name == "all") {
-    std::vector<int> all(mesh.num_nodes());
-    for (int i = 0; i < mesh.num_nodes(); ++i)
-      all[i] = i;
-    return all;
-  }
-  auto it = mesh.node_sets.find(name);
-  if (it == mesh.node_sets.end()) {
-    std::string have;
-    for (const auto& kv : mesh.node_sets)
-      have += " " + kv.first;
-    error->all(FLERR,
-               "{}: keyword '{}': mesh '{}' has no physical group '{}'; it has:{} (and "
-               "'all')",
-               kStyle, keyword, mesh_file_, name, have);
-  }
-  return it->second;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -659,8 +428,8 @@ void FixFemBodyLammps::init()
     opt.tangential_history = law_.history;
     // A deformable body carrying its own compliance: Hertz's contact radius from the total
     // approach and the reaction spread as Hertz pressure (as the LIGGGHTS adapter).
-    opt.hertz_patch = !law_.combined;
-    opt.buffer = buffer_ >= 0 ? buffer_ : neighbor->skin;
+    opt.hertz_patch = !combined();
+    opt.buffer = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
     contact_.configure(opt);
     contact_.set_materials(
         std::vector<fracdem::ContactMaterial>(atom->ntypes + 1, contact_material_));
@@ -677,20 +446,14 @@ void FixFemBodyLammps::check_time_step()
 {
   dt_stable_ = body_.stable_time_step();
   const double dt = update->dt;
-  log_line(fmt::format("fix fem/body {}: stable FE time step {:.6g}, host time step {:.6g} "
-                       "({:.1f}%)\n",
-                       id, dt_stable_, dt, 100.0 * dt / dt_stable_));
-  if (dt > dt_stable_) {
-    const std::string msg =
-        fmt::format("fix fem/body {}: host timestep {} exceeds the stable FE time step {} of "
-                    "mesh '{}'; reduce 'timestep' or coarsen the mesh (keyword 'dt_check warn' "
-                    "runs anyway)",
-                    id, dt, dt_stable_, mesh_file_);
-    if (dt_check_error_)
-      error->all(FLERR, msg);
-    else if (comm->me == 0)
-      error->warning(FLERR, msg);
-  }
+  log_line(fmt::format("fix fem/body {}: {}\n", id, fracdem::time_step_line(dt_stable_, dt)));
+  const std::string violation = fracdem::time_step_violation(dt_stable_, dt, spec_.mesh_file);
+  if (violation.empty()) return;
+  const std::string msg = fmt::format("fix fem/body {}: {}", id, violation);
+  if (spec_.dt_check_error)
+    error->all(FLERR, msg);
+  else if (comm->me == 0)
+    error->warning(FLERR, msg);
 }
 
 // The acceleration of every fix gravity (LAMMPS's FixGravity::extract("gvec")), read at set-up:
@@ -698,7 +461,7 @@ void FixFemBodyLammps::check_time_step()
 void FixFemBodyLammps::read_gravity()
 {
   gravity_[0] = gravity_[1] = gravity_[2] = 0;
-  if (!apply_gravity_) return;
+  if (!spec_.apply_gravity) return;
   for (Fix* f : modify->get_fix_by_style("^gravity")) {
     int dim = 0;
     const auto* g = static_cast<const double*>(f->extract("gvec", dim));
@@ -713,8 +476,8 @@ void FixFemBodyLammps::read_gravity()
 void FixFemBodyLammps::setup(int /*vflag*/)
 {
   if (!initial_velocity_applied_) {
-    for (const auto& s : initial_velocity_)
-      body_.set_velocity(node_set(s.set, "velocity"), s.v);
+    for (const auto& s : spec_.initial_velocity)
+      body_.set_velocity(fracdem::body_node_set(body_, spec_, s.set, "velocity"), s.v);
     body_.impose_velocity_conditions();
   }
   initial_velocity_applied_ = true;
@@ -783,7 +546,7 @@ fracdem::ParticleArrays FixFemBodyLammps::particle_arrays() const
   for (int d = 0; d < domain->dimension; ++d)
     if (domain->periodicity[d]) p.period[d] = domain->prd[d];
   p.history = history_;
-  p.slots = nslots_;
+  p.slots = spec_.history_slots;
   return p;
 }
 
@@ -881,7 +644,7 @@ std::string FixFemBodyLammps::box_violation() const
       }
   const double* blo = domain->triclinic ? domain->boxlo_bound : domain->boxlo;
   const double* bhi = domain->triclinic ? domain->boxhi_bound : domain->boxhi;
-  const double slack = buffer_ >= 0 ? buffer_ : neighbor->skin;
+  const double slack = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
   const int dim = domain->dimension; // 2D: z is periodic by rule and the body lies in z = 0
   for (int d = 0; d < dim; ++d) {
     const char axis = "xyz"[d];
@@ -927,7 +690,7 @@ void FixFemBodyLammps::check_in_box(const char* when)
   const std::string where = box_violation();
   if (where.empty()) return;
   const std::string msg =
-      fmt::format("{} {}: mesh '{}' {}: ", kStyle, id, mesh_file_,
+      fmt::format("{} {}: mesh '{}' {}: ", kStyle, id, spec_.mesh_file,
                   when ? std::string(when) : fmt::format("at step {}", update->ntimestep));
   if (placed) error->all(FLERR, msg + where + " (keywords 'move', 'scale', 'rotate' place it)");
   warned_outside_ = true;
@@ -943,57 +706,23 @@ double FixFemBodyLammps::compute_scalar()
   return body_.kinetic_energy() + body_.strain_energy();
 }
 
+// The core's entries of the global vector, and this fix's own (contacts, stable step, search).
 double FixFemBodyLammps::compute_vector(int i)
 {
   switch (i) {
-  case kKinetic:
-    return body_.kinetic_energy();
-  case kStrain:
-    return body_.strain_energy();
-  case kExternalWork:
-    return body_.external_work();
-  case kContactWork:
-    return body_.contact_work();
-  case kNodes:
-    return body_.num_nodes();
-  case kElements:
-    return body_.mesh().num_active_elems();
-  case kContacts:
+  case fracdem::kVecContacts:
     return ncontacts_;
-  case kForceX:
-  case kForceY:
-  case kForceZ:
-    return body_.contact_force_total()[i - kForceX];
-  case kStableDt:
+  case fracdem::kVecStableDt:
     return dt_stable_;
-  case kSearchRebuilds: {
+  case fracdem::kVecSearchRebuilds: {
     double local = contact_.search_rebuilds(), total = 0;
     MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
     return total;
   }
-  case kMomentumX:
-  case kMomentumY:
-  case kMomentumZ:
-    return body_.momentum(i - kMomentumX);
-  case kDissipated:
-    return body_.dissipated_energy();
-  case kSplitNodes: {
-    const auto& parents = body_.parents();
-    return static_cast<double>(parents.size() - std::count(parents.begin(), parents.end(), -1));
   }
-  case kFragments: {
-    std::vector<int> comp;
-    return fracdem::element_components(body_.mesh(), comp);
-  }
-  case kBoundaryWork:
-    return body_.boundary_work();
-  }
-  if (i >= kVectorSize && i < size_vector) {
-    const auto& r = body_.reactions();
-    const size_t k = static_cast<size_t>(i - kVectorSize);
-    return k < r.size() ? r[k] : 0.0;
-  }
-  return 0.0;
+  double value = 0.0;
+  fracdem::body_vector_entry(body_, i, static_cast<int>(spec_.reaction_groups.size()), value);
+  return value;
 }
 
 /* ----------------------------------------------------------------------
@@ -1002,30 +731,32 @@ double FixFemBodyLammps::compute_vector(int i)
 
 void FixFemBodyLammps::grow_arrays(int nmax)
 {
-  memory->grow(history_, nmax, nslots_ * fracdem::kHistorySlotDoubles, "fem/body:history");
+  memory->grow(history_, nmax, spec_.history_slots * fracdem::kHistorySlotDoubles,
+               "fem/body:history");
 }
 
 void FixFemBodyLammps::copy_arrays(int i, int j, int /*delflag*/)
 {
-  std::memcpy(history_[j], history_[i], sizeof(double) * nslots_ * fracdem::kHistorySlotDoubles);
+  std::memcpy(history_[j], history_[i],
+              sizeof(double) * spec_.history_slots * fracdem::kHistorySlotDoubles);
 }
 
 void FixFemBodyLammps::set_arrays(int i)
 {
-  std::fill_n(history_[i], nslots_ * fracdem::kHistorySlotDoubles, 0.0);
-  fracdem::clear_history_row(history_[i], nslots_);
+  std::fill_n(history_[i], spec_.history_slots * fracdem::kHistorySlotDoubles, 0.0);
+  fracdem::clear_history_row(history_[i], spec_.history_slots);
 }
 
 int FixFemBodyLammps::pack_exchange(int i, double* buf)
 {
-  const int n = nslots_ * fracdem::kHistorySlotDoubles;
+  const int n = spec_.history_slots * fracdem::kHistorySlotDoubles;
   std::memcpy(buf, history_[i], sizeof(double) * n);
   return n;
 }
 
 int FixFemBodyLammps::unpack_exchange(int nlocal, double* buf)
 {
-  const int n = nslots_ * fracdem::kHistorySlotDoubles;
+  const int n = spec_.history_slots * fracdem::kHistorySlotDoubles;
   std::memcpy(history_[nlocal], buf, sizeof(double) * n);
   return n;
 }
@@ -1034,5 +765,6 @@ int FixFemBodyLammps::unpack_exchange(int nlocal, double* buf)
 double FixFemBodyLammps::memory_usage()
 {
   if (!law_.on) return 0.0;
-  return static_cast<double>(atom->nmax) * nslots_ * fracdem::kHistorySlotDoubles * sizeof(double);
+  return static_cast<double>(atom->nmax) * spec_.history_slots * fracdem::kHistorySlotDoubles *
+         sizeof(double);
 }

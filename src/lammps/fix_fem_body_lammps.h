@@ -10,6 +10,8 @@
 
 #include "contact/particle_facet.h"
 #include "fem/body.h"
+#include "fem/body_setup.h"
+#include "fem/body_spec.h"
 
 namespace LAMMPS_NS
 {
@@ -46,12 +48,6 @@ public:
   const fracdem::ParticleFacetContact& contact() const { return contact_; }
 
 private:
-  struct NodeVelocitySpec {
-    std::string set;
-    double v[3];
-    double ramp = 0; // prescribed_velocity: linear ramp time
-    int group = -1;  // reaction account
-  };
   // The contact law as written after keyword 'contact' (LAMMPS's granular syntax, the supported
   // subset): hertz/material E COR NU, damping coeff_restitution|tsuji, tangential mindlin NULL XT
   // MU | linear_nohistory XT 0.
@@ -61,26 +57,24 @@ private:
     bool tsuji = false;    // damping tsuji (else coeff_restitution)
     bool history = true;   // tangential mindlin (else linear_nohistory, frictionless)
     double xt = 0, mu = 0; // tangential damping ratio and friction coefficient
-    bool combined = false; // compliance combined: the body's youngs/poisson enter E*, G*
   };
-  struct FixedSpec {
-    std::string set;
-    int mask; // held components, bit d = component d
-    int group;
-  };
+  // compliance combined: the body's youngs/poisson enter E*, G*.
+  bool combined() const { return spec_.compliance_combined > 0; }
 
+  // The core's keyword table (fracdem::parse_body_spec), restricted to this host, and its checks.
   void parse_arguments(int narg, char** arg);
-  double number(const char* keyword, const char* word);
-  int whole_number(const char* keyword, const char* word);
-  int reaction_group(const std::string& set);
-  void check_arguments();
   void load_mesh();
   void log_line(const std::string& line) const;
-  std::vector<int> node_set(const std::string& name, const char* keyword) const;
   void check_time_step();
   void read_gravity();
   void compute_forces();
-  int parse_contact(int iarg, int narg, char** arg);
+  // keyword 'contact' and its parts (each returns the index of the word after it)
+  void parse_contact(fracdem::SpecReader& r);
+  void parse_contact_normal(const fracdem::SpecReader& r);
+  std::size_t parse_contact_damping(const fracdem::SpecReader& r, std::size_t j);
+  std::size_t parse_contact_tangential(const fracdem::SpecReader& r, std::size_t j);
+  std::size_t parse_contact_none(const fracdem::SpecReader& r, std::size_t j);
+  std::size_t parse_contact_unsupported(const fracdem::SpecReader& r, std::size_t j);
   void contact_setup();
   fracdem::ParticleArrays particle_arrays() const;
   void warn_unresolved_contact(const fracdem::ParticleFacetResult& res);
@@ -88,21 +82,9 @@ private:
   void check_in_box(const char* when);
 
   // ---- arguments ----
-  std::string mesh_file_;
-  int surface_type_ = -1;
-  fracdem::Material material_;
-  bool have_density_ = false, have_youngs_ = false, have_poisson_ = false;
-  bool have_plane_ = false;
-  std::vector<FixedSpec> fixed_sets_;
-  std::vector<std::string> reaction_groups_; // fixed / prescribed_velocity groups, in order
-  std::vector<NodeVelocitySpec> initial_velocity_, prescribed_velocity_;
-  std::vector<fracdem::MeshTransform> transforms_;
-  bool dt_check_error_ = true;
-  bool apply_gravity_ = true;
+  fracdem::BodySpec spec_;
   ContactLaw law_;
   fracdem::ContactMaterial contact_material_;
-  double buffer_ = -1; // search buffer; < 0: the neighbour skin
-  int nslots_ = 8;     // history_slots
 
   // ---- the body, replicated on every rank ----
   fracdem::Body body_;
@@ -113,7 +95,7 @@ private:
 
   // ---- particle contact ----
   fracdem::ParticleFacetContact contact_;
-  double** history_ = nullptr; // per atom: nslots_ records of fracdem::kHistorySlotDoubles
+  double** history_ = nullptr; // per atom: history_slots records of fracdem::kHistorySlotDoubles
   int ncontacts_ = 0;
   bool warned_slots_ = false, warned_unresolved_ = false, warned_outside_ = false;
   bool warned_no_contact_ = false;

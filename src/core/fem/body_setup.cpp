@@ -1,0 +1,195 @@
+// Set-up of fix fem/body's Body from a BodySpec: mesh, placement, checks, conditions, work split.
+#include "fem/body_setup.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "fem/node_split.h"
+#include "io/gmsh_reader.h"
+#include "materials/material_table.h"
+
+namespace fracdem
+{
+
+namespace
+{
+
+// The spec's mesh, read for a run of `dimension` and placed by scale/move/rotate.
+Mesh placed_mesh(const BodySpec& spec, int dimension)
+{
+  Mesh mesh;
+  try {
+    mesh = read_gmsh(spec.mesh_file, dimension);
+  } catch (const std::exception& e) {
+    throw SpecError(std::string("cannot use mesh: ") + e.what(), true);
+  }
+  if (mesh.dim != dimension)
+    throw SpecError("mesh '" + spec.mesh_file + "' is " + std::to_string(mesh.dim) +
+                    "D but the simulation is " + std::to_string(dimension) + "D");
+  bool in_plane = false;
+  try {
+    in_plane = apply_transforms(mesh, spec.transforms);
+  } catch (const std::invalid_argument& e) {
+    throw SpecError(std::string("keyword 'rotate': ") + e.what(), true);
+  }
+  if (!in_plane) throw SpecError("2D mesh must stay in the z = 0 plane after 'move'/'rotate'");
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (!element_geometry_finite(mesh, e))
+      throw SpecError("keyword 'scale'/'move'/'rotate': element " + std::to_string(e) + " of '" +
+                          spec.mesh_file + "' overflows double precision",
+                      true);
+  return mesh;
+}
+
+} // namespace
+
+void build_body(const BodySpec& spec, int dimension, Body& body)
+{
+  Mesh mesh = placed_mesh(spec, dimension);
+  const std::string material_error = material_setup_error(spec.material, mesh.dim);
+  if (!material_error.empty()) throw SpecError(material_error, true);
+  try {
+    body.build(std::move(mesh), spec.material, spec.rigid);
+  } catch (const std::exception& e) {
+    throw SpecError("bad mesh '" + spec.mesh_file + "': " + e.what(), true);
+  }
+  body.set_rigid_motion(spec.motion);
+  body.set_bulk_viscosity(spec.viscosity);
+  for (const FixedSpec& s : spec.fixed_sets)
+    body.set_fixed(body_node_set(body, spec, s.set, "fixed"), s.mask, s.group);
+  for (const NodeVelocitySpec& s : spec.prescribed_velocity)
+    body.set_prescribed_velocity(body_node_set(body, spec, s.set, "prescribed_velocity"), s.v,
+                                 s.ramp, s.group);
+  for (const NodeVelocitySpec& s : spec.initial_velocity)
+    body_node_set(body, spec, s.set, "velocity"); // names checked now, applied at the run
+}
+
+std::vector<int> body_node_set(const Body& body, const BodySpec& spec, const std::string& name,
+                               const std::string& keyword)
+{
+  const Mesh& mesh = body.mesh();
+  if (name == "all") {
+    std::vector<int> all(mesh.num_nodes());
+    for (int i = 0; i < mesh.num_nodes(); ++i)
+      all[i] = i;
+    return all;
+  }
+  auto it = mesh.node_sets.find(name);
+  if (it == mesh.node_sets.end()) {
+    std::string msg = "keyword '" + keyword + "': mesh '" + spec.mesh_file +
+                      "' has no physical group '" + name + "'; it has:";
+    for (const auto& kv : mesh.node_sets)
+      msg += " " + kv.first;
+    throw SpecError(msg + " (and 'all')");
+  }
+  return it->second;
+}
+
+// Every rank holds the whole body. The element work of a material without history is split
+// evenly; one with history (softening, cracks, the viscous work of the bulk viscosity) is
+// advanced on every rank, so that every replica holds the whole material state.
+bool split_element_work(Body& body, int rank, int nprocs, bool replicated)
+{
+  if (nprocs <= 1 || replicated || body.space().state_size() != 0 || body.bulk_viscosity().on)
+    return false;
+  const long long ne = body.mesh().num_elems();
+  body.set_element_range(static_cast<int>((ne * rank) / nprocs),
+                         static_cast<int>((ne * (rank + 1)) / nprocs));
+  return true;
+}
+
+std::string time_step_line(double dt_stable, double dt)
+{
+  char line[160];
+  std::snprintf(line, sizeof(line), "stable FE time step %.6g, host time step %.6g (%.1f%%)",
+                dt_stable, dt, 100.0 * dt / dt_stable);
+  return line;
+}
+
+std::string time_step_violation(double dt_stable, double dt, const std::string& mesh_file)
+{
+  if (!(dt > dt_stable)) return "";
+  char head[160];
+  std::snprintf(head, sizeof(head), "host timestep %g exceeds the stable FE time step %g", dt,
+                dt_stable);
+  return std::string(head) + " of mesh '" + mesh_file +
+         "'; reduce 'timestep' or coarsen the mesh (keyword 'dt_check warn' runs anyway)";
+}
+
+int split_node_count(const Body& body)
+{
+  const auto& parents = body.parents();
+  return static_cast<int>(parents.size() - std::count(parents.begin(), parents.end(), -1));
+}
+
+int fragment_count(const Body& body)
+{
+  std::vector<int> comp;
+  return element_components(body.mesh(), comp);
+}
+
+namespace
+{
+
+// The body's entries of the vector below kVecSize: false for the host's.
+bool body_scalar(const Body& body, int i, double& value)
+{
+  switch (i) {
+  case kVecKinetic:
+    value = body.kinetic_energy();
+    return true;
+  case kVecStrain:
+    value = body.strain_energy();
+    return true;
+  case kVecExternalWork:
+    value = body.external_work();
+    return true;
+  case kVecContactWork:
+    value = body.contact_work();
+    return true;
+  case kVecNodes:
+    value = body.num_nodes();
+    return true;
+  case kVecElements:
+    value = body.mesh().num_active_elems();
+    return true;
+  case kVecForceX:
+  case kVecForceY:
+  case kVecForceZ:
+    value = body.contact_force_total()[i - kVecForceX];
+    return true;
+  case kVecMomentumX:
+  case kVecMomentumY:
+  case kVecMomentumZ:
+    value = body.momentum(i - kVecMomentumX);
+    return true;
+  case kVecDissipated:
+    value = body.dissipated_energy();
+    return true;
+  case kVecSplitNodes:
+    value = split_node_count(body);
+    return true;
+  case kVecFragments:
+    value = fragment_count(body);
+    return true;
+  case kVecBoundaryWork:
+    value = body.boundary_work();
+    return true;
+  default:
+    return false;
+  }
+}
+
+} // namespace
+
+bool body_vector_entry(const Body& body, int i, int ngroups, double& value)
+{
+  if (i < kVecSize) return body_scalar(body, i, value);
+  if (i >= kVecSize + 3 * ngroups) return false;
+  const auto& r = body.reactions();
+  const std::size_t k = static_cast<std::size_t>(i - kVecSize);
+  value = k < r.size() ? r[k] : 0.0;
+  return true;
+}
+
+} // namespace fracdem

@@ -1,0 +1,623 @@
+// fix fem/body's settings: the one keyword table, its handlers, the parser and the checks.
+#include "fem/body_spec.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "materials/material_table.h"
+
+namespace fracdem
+{
+
+namespace
+{
+
+[[noreturn]] void fail(const std::string& what)
+{
+  throw SpecError(what);
+}
+
+// Sub-model tables: one place maps words to models.
+const std::map<std::string, Kinematics> kKinematicsTable = {
+    {"elastic", Kinematics::SmallStrain},
+    {"corotational", Kinematics::Corotational},
+};
+const std::map<std::string, NormalModel> kNormalModelTable = {
+    {"hertz", NormalModel::Hertz},
+    {"hooke", NormalModel::Hooke},
+};
+const std::map<std::string, PlaneMode> kPlaneModeTable = {
+    {"strain", PlaneMode::PlaneStrain},
+    {"axisymmetric", PlaneMode::Axisymmetric},
+    {"stress", PlaneMode::PlaneStress},
+};
+
+// word(1) looked up in `table`; else "keyword 'KW' got 'V', expected one of: a b".
+template <typename T> T lookup(const SpecReader& r, const std::map<std::string, T>& table)
+{
+  auto it = table.find(r.word(1));
+  if (it == table.end()) {
+    std::string msg = "keyword '" + r.keyword() + "' got '" + r.word(1) + "', expected one of:";
+    for (const auto& kv : table)
+      msg += " " + kv.first;
+    fail(msg);
+  }
+  return it->second;
+}
+
+// A keyword with one value: need(1, what), the value (number(1)), take(2).
+double one_number(SpecReader& r, const char* what)
+{
+  r.need(1, what);
+  const double v = r.number(1);
+  r.take(2);
+  return v;
+}
+
+// ---- the handlers of the keyword table, in the documentation's order ----
+
+void parse_type(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "an atom type");
+  s.surface_type = r.whole_number(1);
+  r.take(2);
+}
+
+void parse_density(SpecReader& r, BodySpec& s)
+{
+  s.material.rho = one_number(r, "a value");
+  s.have_density = true;
+}
+
+void parse_youngs(SpecReader& r, BodySpec& s)
+{
+  s.material.E = one_number(r, "a value");
+  s.have_youngs = true;
+}
+
+void parse_poisson(SpecReader& r, BodySpec& s)
+{
+  s.material.nu = one_number(r, "a value");
+  s.have_poisson = true;
+}
+
+void parse_model(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "elastic or corotational");
+  s.material.kinematics = lookup(r, kKinematicsTable);
+  r.take(2);
+}
+
+void parse_plane(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "strain, stress or axisymmetric");
+  s.material.plane = lookup(r, kPlaneModeTable);
+  s.have_plane = true;
+  r.take(2);
+}
+
+void parse_thickness(SpecReader& r, BodySpec& s)
+{
+  s.material.thickness = one_number(r, "a value");
+  if (s.material.thickness <= 0) fail("keyword 'thickness' must be > 0");
+}
+
+// fixed GROUP [x] [y] [z]: no component named holds all.
+void parse_fixed(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "a mesh physical group name [x] [y] [z]");
+  FixedSpec f{r.word(1), 0, s.reaction_group(r.word(1))};
+  r.take(2);
+  const std::string axes = "xyz";
+  for (; !r.done() && r.keyword().size() == 1 && axes.find(r.keyword()[0]) != std::string::npos;
+       r.take(1))
+    f.mask |= 1 << (r.keyword()[0] - 'x');
+  if (f.mask == 0) f.mask = 7;
+  s.fixed_sets.push_back(f);
+}
+
+NodeVelocitySpec node_velocity(SpecReader& r)
+{
+  r.need(4, "GROUP vx vy vz");
+  NodeVelocitySpec v;
+  v.set = r.word(1);
+  for (int d = 0; d < 3; ++d)
+    v.v[d] = r.number(2 + d);
+  r.take(5);
+  return v;
+}
+
+void parse_velocity(SpecReader& r, BodySpec& s)
+{
+  s.initial_velocity.push_back(node_velocity(r));
+}
+
+// prescribed_velocity GROUP vx vy vz [ramp T]
+void parse_prescribed_velocity(SpecReader& r, BodySpec& s)
+{
+  NodeVelocitySpec v = node_velocity(r);
+  v.group = s.reaction_group(v.set);
+  if (r.has(1) && r.keyword() == "ramp") {
+    v.ramp = r.number(1);
+    if (v.ramp <= 0) fail("keyword 'prescribed_velocity ... ramp T' needs T > 0");
+    r.take(2);
+  }
+  s.prescribed_velocity.push_back(v);
+}
+
+void parse_scale(SpecReader& r, BodySpec& s)
+{
+  MeshTransform t{MeshTransform::Scale, {one_number(r, "a factor"), 0, 0, 0}};
+  if (t.a[0] <= 0) fail("keyword 'scale' must be > 0");
+  s.transforms.push_back(t);
+}
+
+void parse_move(SpecReader& r, BodySpec& s)
+{
+  r.need(3, "dx dy dz");
+  MeshTransform t{MeshTransform::Move, {0, 0, 0, 0}};
+  for (int d = 0; d < 3; ++d)
+    t.a[d] = r.number(1 + d);
+  s.transforms.push_back(t);
+  r.take(4);
+}
+
+// rotate axis ax ay az angle DEGREES
+void parse_rotate(SpecReader& r, BodySpec& s)
+{
+  r.need(6, "axis ax ay az angle DEGREES");
+  if (r.word(1) != "axis" || r.word(5) != "angle")
+    fail("keyword 'rotate' expects 'axis ax ay az angle DEGREES'");
+  MeshTransform t{MeshTransform::Rotate, {0, 0, 0, 0}};
+  for (int d = 0; d < 3; ++d)
+    t.a[d] = r.number(2 + d);
+  t.a[3] = r.number(6) * M_PI / 180.0;
+  if (!valid_axis(t.a))
+    fail("keyword 'rotate' got axis " + r.word(2) + " " + r.word(3) + " " + r.word(4) +
+         ", expected a non-zero axis direction ax ay az");
+  s.transforms.push_back(t);
+  r.take(7);
+}
+
+void parse_rigid(SpecReader& r, BodySpec& s)
+{
+  s.rigid = r.either("yes", "no");
+}
+
+void parse_motion_linear(SpecReader& r, RigidMotion& m)
+{
+  r.need(4, "linear vx vy vz");
+  m.kind = RigidMotion::Linear;
+  for (int d = 0; d < 3; ++d)
+    m.velocity[d] = r.number(2 + d);
+  r.take(5);
+}
+
+void parse_motion_rotate(SpecReader& r, RigidMotion& m)
+{
+  r.need(11, "rotate origin ox oy oz axis ax ay az period T");
+  if (r.word(2) != "origin" || r.word(6) != "axis" || r.word(10) != "period")
+    fail("keyword 'motion rotate' expects 'origin ox oy oz axis ax ay az period T'");
+  m.kind = RigidMotion::Rotate;
+  for (int d = 0; d < 3; ++d) {
+    m.origin[d] = r.number(3 + d);
+    m.axis[d] = r.number(7 + d);
+  }
+  m.period = r.number(11);
+  double* k = m.axis;
+  const double n = std::sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
+  if (!valid_axis(k) || m.period == 0) fail("'motion rotate' needs a non-zero axis and period");
+  for (int d = 0; d < 3; ++d)
+    k[d] /= n;
+  r.take(12);
+}
+
+// motion linear vx vy vz | rotate origin ox oy oz axis ax ay az period T
+void parse_motion(SpecReader& r, BodySpec& s)
+{
+  using Kind = void (*)(SpecReader&, RigidMotion&);
+  static const std::map<std::string, Kind> kinds = {{"linear", parse_motion_linear},
+                                                    {"rotate", parse_motion_rotate}};
+  r.need(1, "linear vx vy vz | rotate origin ox oy oz axis ax ay az period T");
+  auto it = kinds.find(r.word(1));
+  if (it == kinds.end()) fail("keyword 'motion' expects 'linear' or 'rotate'");
+  it->second(r, s.motion);
+}
+
+// A core parser's "material rankine: strength: ..." as "keyword 'material rankine': strength: ...".
+std::string keyword_error(const std::string& err)
+{
+  const std::size_t colon = err.find(':');
+  if (colon == std::string::npos) return "keyword " + err;
+  return "keyword '" + err.substr(0, colon) + "'" + err.substr(colon);
+}
+
+// `material MODEL ...` and `eos ...`: the material table reads the words up to the next
+// keyword with `parse` (parse_material_arguments or parse_eos_arguments).
+using MaterialParser = std::string (*)(const std::vector<std::string>&, Material&, std::size_t*);
+void parse_material_words(SpecReader& r, BodySpec& s, MaterialParser parse)
+{
+  std::size_t used = 0;
+  const std::string err = parse(r.rest(), s.material, &used);
+  if (!err.empty()) fail(keyword_error(err));
+  r.take(1 + used);
+}
+
+void parse_material(SpecReader& r, BodySpec& s)
+{
+  parse_material_words(r, s, parse_material_arguments);
+}
+
+void parse_eos(SpecReader& r, BodySpec& s)
+{
+  parse_material_words(r, s, parse_eos_arguments);
+}
+
+// The options after `fracture nodal`, each with one value.
+using FractureOption = void (*)(const SpecReader&, BodySpec&);
+const std::map<std::string, FractureOption> kFractureOptions = {
+    {"every",
+     [](const SpecReader& r, BodySpec& s) {
+       s.fracture_every = r.whole_number(1);
+       if (s.fracture_every < 1) fail("keyword 'fracture nodal every' expects N >= 1");
+     }},
+    {"erode_cracked",
+     [](const SpecReader& r, BodySpec& s) {
+       if (r.word(1) != "yes" && r.word(1) != "no")
+         fail("keyword 'fracture nodal erode_cracked' expects yes or no");
+       s.erode_cracked = r.word(1) == "yes";
+     }},
+    {"min_size",
+     [](const SpecReader&, BodySpec&) {
+       fail("keyword 'fracture nodal min_size': cracks through elements are not available yet; "
+            "cracks follow element boundaries (leave out min_size)");
+     }},
+};
+
+// fracture nodal [every N] [erode_cracked yes|no]
+void parse_fracture(SpecReader& r, BodySpec& s)
+{
+  if (!r.has(1) || r.word(1) != "nodal") fail("keyword 'fracture' expects 'nodal [every N]'");
+  s.fracture_every = 1;
+  r.take(2);
+  for (; r.has(1) && kFractureOptions.count(r.keyword()); r.take(2))
+    kFractureOptions.at(r.keyword())(r, s);
+}
+
+// bulk_viscosity off | Q1 Q2: the coefficients are checked by the core.
+void parse_bulk_viscosity(SpecReader& r, BodySpec& s)
+{
+  const char* expected = "keyword 'bulk_viscosity' expects 'off' or 'Q1 Q2' (linear and "
+                         "quadratic coefficients, e.g. 0.06 1.2)";
+  if (!r.has(1)) fail(expected);
+  if (r.word(1) == "off") {
+    s.viscosity_mode = 0;
+    r.take(2);
+    return;
+  }
+  if (!r.has(2)) fail(expected);
+  s.viscosity.q1 = r.number(1);
+  s.viscosity.q2 = r.number(2);
+  const char* bad = bulk_viscosity_check(s.viscosity);
+  if (*bad) fail(std::string("keyword 'bulk_viscosity': ") + bad);
+  s.viscosity_mode = 1;
+  r.take(3);
+}
+
+// ---- erosion: parse_erosion / parse_erosion_mass go here (see BodySpec) ----
+
+void parse_contact_model(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "hertz or hooke");
+  s.normal_model = lookup(r, kNormalModelTable);
+  r.take(2);
+}
+
+void parse_tangential(SpecReader& r, BodySpec& s)
+{
+  s.tangential_history = r.either("history", "no_history");
+}
+
+void parse_compliance(SpecReader& r, BodySpec& s)
+{
+  s.compliance_combined = r.either("particle", "combined") ? 0 : 1;
+}
+
+void parse_buffer(SpecReader& r, BodySpec& s)
+{
+  s.buffer = one_number(r, "a distance");
+  if (s.buffer < 0) fail("keyword 'buffer' must be >= 0");
+}
+
+void parse_dt_check(SpecReader& r, BodySpec& s)
+{
+  s.dt_check_error = r.either("error", "warn");
+}
+
+void parse_gravity(SpecReader& r, BodySpec& s)
+{
+  s.apply_gravity = r.either("yes", "no"); // anything else is an error, not "no"
+}
+
+void parse_energy_file(SpecReader& r, BodySpec& s)
+{
+  r.need(2, "FILE N");
+  s.energy_file = r.word(1);
+  s.energy_every = r.whole_number(2);
+  if (s.energy_every <= 0) fail("keyword 'energy_file' needs N > 0");
+  r.take(3);
+}
+
+void parse_contact_bodies(SpecReader& r, BodySpec& s)
+{
+  s.contact_bodies = r.either("yes", "no") ? 1 : 0;
+}
+
+void parse_contact_penalty(SpecReader& r, BodySpec& s)
+{
+  s.contact_penalty = one_number(r, "a factor");
+  if (s.contact_penalty <= 0) fail("keyword 'contact_penalty' must be > 0");
+}
+
+// A particle touches a handful of facet features at once; beyond kMaxHistorySlots it is a typo
+// (the history array is per particle and would eat memory).
+void parse_history_slots(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "a count");
+  s.history_slots = r.whole_number(1);
+  if (s.history_slots < 1 || s.history_slots > kMaxHistorySlots)
+    fail("keyword 'history_slots' expects 1 .. 64");
+  r.take(2);
+}
+
+using Handler = void (*)(SpecReader&, BodySpec&);
+struct Keyword {
+  const char* keyword;
+  Handler handle;
+};
+
+// The one keyword table of fix fem/body.
+const std::vector<Keyword> kKeywords = {
+    {"type", parse_type},
+    {"density", parse_density},
+    {"youngs", parse_youngs},
+    {"poisson", parse_poisson},
+    {"model", parse_model},
+    {"plane", parse_plane},
+    {"thickness", parse_thickness},
+    {"fixed", parse_fixed},
+    {"velocity", parse_velocity},
+    {"prescribed_velocity", parse_prescribed_velocity},
+    {"scale", parse_scale},
+    {"move", parse_move},
+    {"rotate", parse_rotate},
+    {"rigid", parse_rigid},
+    {"motion", parse_motion},
+    {"material", parse_material},
+    {"eos", parse_eos},
+    {"fracture", parse_fracture},
+    {"bulk_viscosity", parse_bulk_viscosity},
+    // ---- erosion: {"erosion", parse_erosion}, {"erosion_mass", parse_erosion_mass} ----
+    {"contact_model", parse_contact_model},
+    {"tangential", parse_tangential},
+    {"compliance", parse_compliance},
+    {"buffer", parse_buffer},
+    {"dt_check", parse_dt_check},
+    {"gravity", parse_gravity},
+    {"energy_file", parse_energy_file},
+    {"contact_bodies", parse_contact_bodies},
+    {"contact_penalty", parse_contact_penalty},
+    {"history_slots", parse_history_slots},
+};
+
+const Keyword* find_keyword(const std::string& keyword)
+{
+  auto it = std::find_if(kKeywords.begin(), kKeywords.end(),
+                         [&](const Keyword& k) { return keyword == k.keyword; });
+  return it == kKeywords.end() ? nullptr : &*it;
+}
+
+// "a b material(elastic) c": the keywords a restricted host takes.
+std::string supported_list(const BodySpecHost& host)
+{
+  std::string list;
+  for (const BodySpecHost::Supported& k : host.supported)
+    list += (list.empty() ? "" : " ") + k.keyword + (k.note.empty() ? "" : "(" + k.note + ")");
+  return list;
+}
+
+// The keyword at r: the host's own handler, else the table's where the host takes it.
+void parse_keyword(SpecReader& r, BodySpec& spec, const BodySpecHost& host)
+{
+  const std::string& kw = r.keyword();
+  auto own = host.own.find(kw);
+  if (own != host.own.end()) return own->second(r, spec);
+  const Keyword* k = find_keyword(kw);
+  const bool restricted = !host.supported.empty();
+  if (!k)
+    fail("unknown keyword '" + kw + "'" +
+         (restricted ? " (supported under " + host.name + ": " + supported_list(host) + ")" : ""));
+  if (!host.takes(kw))
+    fail("keyword '" + kw + "' is not yet supported under " + host.name +
+         " (supported: " + supported_list(host) + ")");
+  k->handle(r, spec);
+}
+
+// type, density/youngs/poisson of a deformable body, poisson's range.
+void check_type_and_elasticity(const BodySpec& s, const BodySpecHost& host, int ntypes)
+{
+  if (s.surface_type < 1 || s.surface_type > ntypes)
+    fail("keyword 'type' is required and must be an atom type between 1 and " +
+         std::to_string(ntypes));
+  if (s.rigid) return;
+  if (!s.have_density || !s.have_youngs || !s.have_poisson)
+    fail(std::string("a deformable body needs keywords 'density', 'youngs' and 'poisson'") +
+         (host.takes("rigid") ? " (or 'rigid yes')" : ""));
+  if (s.material.rho <= 0 || s.material.E <= 0) fail("'density' and 'youngs' must be > 0");
+  if (s.material.nu <= -1.0 || s.material.nu >= 0.5) fail("'poisson' must lie in (-1, 0.5)");
+  if (s.motion.kind != RigidMotion::None)
+    fail("keyword 'motion' needs 'rigid yes' (deformable bodies move by forces and "
+         "'prescribed_velocity')");
+}
+
+// What a rigid body cannot have; its (unused) mass density.
+void check_rigid(BodySpec& s)
+{
+  if (!s.fixed_sets.empty() || !s.prescribed_velocity.empty() || !s.initial_velocity.empty())
+    fail("'fixed', 'velocity' and 'prescribed_velocity' apply to deformable bodies; a rigid "
+         "body moves by 'motion'");
+  if (!s.have_density) s.material.rho = 1.0; // only used for the (unused) mass of a rigid body
+  if (s.material.model != MaterialModel::Elastic || s.fracture_every > 0)
+    fail("keywords 'material' and 'fracture' apply to deformable bodies; a rigid body neither "
+         "deforms nor breaks");
+}
+
+// The material model against fracture, the plane formulation against the dimension.
+void check_material(const BodySpec& s, int dimension)
+{
+  if (s.material.model == MaterialModel::Rankine) {
+    try {
+      rankine_check(s.material.rankine());
+    } catch (const std::exception& e) {
+      fail(std::string("keyword 'material rankine': ") + e.what());
+    }
+  }
+  if (s.fracture_every > 0 && !material_model_info(s.material.model).fractures)
+    fail("keyword 'fracture' needs a material that fails, e.g. 'material rankine strength FT "
+         "fracture_energy GF'");
+  // A 3D mesh has no plane formulation: 'plane axisymmetric' there would silently run 3D.
+  if (s.have_plane && dimension == 3)
+    fail("keyword 'plane' applies to 2D runs ('dimension 2'); this run is 3D (leave out "
+         "'plane')");
+}
+
+// Defaults that depend on other settings, and the keywords they make meaningless.
+void resolve_defaults(BodySpec& s)
+{
+  if (s.compliance_combined < 0) s.compliance_combined = s.rigid ? 1 : 0;
+  // Bulk viscosity: on for shock problems (plastic materials, equations of state), off for
+  // elastic and Rankine bodies, whose results stay as they were.
+  if (s.viscosity_mode > 0 && s.rigid)
+    fail("keyword 'bulk_viscosity' applies to deformable bodies; a rigid body does not deform");
+  if (s.viscosity_mode < 0)
+    s.viscosity_mode =
+        !s.rigid && (s.material.plastic_model() || s.material.eos.model != EosModel::Linear);
+  s.viscosity.on = s.viscosity_mode > 0;
+  // Off unless asked for: with the rotating crack, contact between fragments can feed energy
+  // into fully cracked elements (docs/fracture.md, restrictions).
+  if (s.contact_bodies < 0) s.contact_bodies = 0;
+  if (s.contact_bodies && s.rigid) fail("keyword 'contact_bodies yes' needs a deformable body");
+  // ---- erosion: the erosion check (erosion_setup_error, erosion_mass) goes here ----
+}
+
+} // namespace
+
+std::string fix_message(const SpecError& e, const std::string& fix_id)
+{
+  return std::string("fix fem/body") + (e.names_fix() ? " " + fix_id : "") + ": " + e.what();
+}
+
+int BodySpec::reaction_group(const std::string& set)
+{
+  auto it = std::find(reaction_groups.begin(), reaction_groups.end(), set);
+  if (it != reaction_groups.end()) return static_cast<int>(it - reaction_groups.begin());
+  reaction_groups.push_back(set);
+  return static_cast<int>(reaction_groups.size()) - 1;
+}
+
+/* ---- SpecReader ---- */
+
+void SpecReader::need(std::size_t n, const std::string& what) const
+{
+  if (!has(n)) fail("keyword '" + keyword() + "' expects " + what);
+}
+
+double SpecReader::number(std::size_t k) const
+{
+  return spec_number(keyword(), word(k));
+}
+
+int SpecReader::whole_number(std::size_t k) const
+{
+  return spec_whole_number(keyword(), word(k));
+}
+
+bool SpecReader::either(const char* first, const char* second)
+{
+  const std::string expected = std::string(first) + " or " + second;
+  need(1, expected);
+  const bool is_first = word(1) == first;
+  if (!is_first && word(1) != second) fail("keyword '" + keyword() + "' expects " + expected);
+  take(2);
+  return is_first;
+}
+
+std::vector<std::string> SpecReader::rest() const
+{
+  return std::vector<std::string>(w_.begin() + static_cast<std::ptrdiff_t>(i_ + 1), w_.end());
+}
+
+double spec_number(const std::string& keyword, const std::string& word)
+{
+  const char* w = word.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(w, &end);
+  if (end == w || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+    fail("keyword '" + keyword + "' expects a finite number, got '" + word + "'");
+  return v;
+}
+
+int spec_whole_number(const std::string& keyword, const std::string& word)
+{
+  const char* w = word.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(w, &end, 10);
+  if (end == w || *end != '\0' || errno == ERANGE || v < INT_MIN || v > INT_MAX)
+    fail("keyword '" + keyword + "' expects an integer, got '" + word + "'");
+  return static_cast<int>(v);
+}
+
+/* ---- parsing ---- */
+
+bool BodySpecHost::takes(const std::string& keyword) const
+{
+  if (own.count(keyword)) return true;
+  if (supported.empty()) return find_keyword(keyword) != nullptr;
+  return std::any_of(supported.begin(), supported.end(),
+                     [&](const Supported& k) { return k.keyword == keyword; });
+}
+
+std::vector<std::string> body_keywords()
+{
+  std::vector<std::string> names;
+  for (const Keyword& k : kKeywords)
+    names.push_back(k.keyword);
+  return names;
+}
+
+BodySpec parse_body_spec(const std::vector<std::string>& words, const BodySpecHost& host)
+{
+  if (words.size() < 2 || words[0] != "file")
+    fail("expected 'fix ID group fem/body file MESH.msh keyword value ...'");
+  BodySpec spec;
+  spec.mesh_file = words[1];
+  for (SpecReader r(words, 2); !r.done();)
+    parse_keyword(r, spec, host);
+  return spec;
+}
+
+void check_body_spec(BodySpec& spec, const BodySpecHost& host, int ntypes, int dimension)
+{
+  check_type_and_elasticity(spec, host, ntypes);
+  if (spec.rigid) check_rigid(spec);
+  check_material(spec, dimension);
+  resolve_defaults(spec);
+}
+
+} // namespace fracdem
