@@ -1,6 +1,7 @@
 // Unit tests of the Rankine rotating-crack material point against closed-form values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -95,6 +96,63 @@ double drive_uniaxial(const RankineParams& p, double h, double e_max, int n, Poi
   }
   return work;
 }
+
+// Voigt double contraction, engineering shear in the strain: the shear terms count once.
+double vdot(const double a[6], const double b[6])
+{
+  double s = 0;
+  for (int k = 0; k < 6; ++k)
+    s += a[k] * b[k];
+  return s;
+}
+
+// 3x3 rotation by angle a about coordinate axis ax (0 x, 1 y, 2 z).
+struct Mat3 {
+  double m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+};
+Mat3 mul(const Mat3& a, const Mat3& b)
+{
+  Mat3 c;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      c.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+  return c;
+}
+Mat3 rot(int ax, double a)
+{
+  Mat3 r;
+  const int i = (ax + 1) % 3, j = (ax + 2) % 3;
+  r.m[i][i] = r.m[j][j] = std::cos(a);
+  r.m[i][j] = -std::sin(a);
+  r.m[j][i] = std::sin(a);
+  return r;
+}
+// Voigt strain (engineering shear) R diag(l) R^T: principal strains l along the columns of R.
+void strain_of(const double l[3], const Mat3& R, double eps[6])
+{
+  double e[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      e[i][j] = R.m[i][0] * l[0] * R.m[j][0] + R.m[i][1] * l[1] * R.m[j][1] +
+                R.m[i][2] * l[2] * R.m[j][2];
+  const double v[6] = {e[0][0], e[1][1], e[2][2], 2 * e[0][1], 2 * e[1][2], 2 * e[2][0]};
+  std::copy(v, v + 6, eps);
+}
+
+// Damages a point with uniaxial strain along x, in mode m, to kappa ~ e (d in (0, 1) for e below
+// kappa_f, d = 1 beyond).
+Point damaged_point(const RankineParams& p, StressMode m, double e, const std::vector<double>& X)
+{
+  Point pt;
+  for (int i = 1; i <= 200; ++i) {
+    const double eps[6] = {e * i / 200, 0, 0, 0, 0, 0};
+    pt.step(p, m, eps, X);
+  }
+  return pt;
+}
+
+const StressMode kAllModes[] = {StressMode::Solid, StressMode::PlaneStrain, StressMode::PlaneStress,
+                                StressMode::Axisymmetric};
 
 } // namespace
 
@@ -437,31 +495,248 @@ TEST(Rankine, SameInputGivesIdenticalBits)
   }
 }
 
-// work = stored + dissipated at every step of an arbitrary non-proportional 3D path: the kernel's
-// D is defined that way (trapezoidal work minus psi), so this holds to round-off.
-TEST(Rankine, WorkEqualsStoredPlusDissipatedOnARandomPath)
+// A leg of a strain loop: principal strains l0 -> l1 in the frame base * rot(ax, a0 -> a1). A leg
+// changes either the principal strains (fixed frame) or the frame (a rotation about one of its
+// own principal axes), never both. Along the first kind the new law is linear (the loops below
+// keep the signs of every principal strain and of the trace), along the second the trapezoidal
+// sum of any isotropic law is exact (sigma_k : eps_k+1 = sigma_k+1 : eps_k for a rotation about a
+// principal axis). So the trapezoidal net work of a law with a potential is round-off, with no
+// quadrature error to hide a non-zero cycle; on a loop that bends its principal strains and its
+// frame at once it would be O(step^2) instead.
+struct Leg {
+  double l0[3], l1[3];
+  Mat3 base;
+  int ax;
+  double a0, a1;
+};
+
+// Strains of the loop, n per leg, the first point included once (the loop is closed).
+std::vector<std::vector<double>> loop_strains(const std::vector<Leg>& legs, int n)
 {
-  const RankineParams p = concrete(Softening::Exponential, 0.2);
+  std::vector<std::vector<double>> path;
+  for (const Leg& g : legs)
+    for (int i = path.empty() ? 0 : 1; i <= n; ++i) {
+      const double t = double(i) / n;
+      const double l[3] = {g.l0[0] + t * (g.l1[0] - g.l0[0]), g.l0[1] + t * (g.l1[1] - g.l0[1]),
+                           g.l0[2] + t * (g.l1[2] - g.l0[2])};
+      std::vector<double> eps(6);
+      strain_of(l, mul(g.base, rot(g.ax, g.a0 + t * (g.a1 - g.a0))), eps.data());
+      path.push_back(eps);
+    }
+  return path;
+}
+
+// Principal strains, frame and the loop: L0 -> L1, turn by a about axis 2, L1 -> L2, turn by b
+// about axis ax2 (a principal axis of the turned frame), L2 -> L0, both turns back.
+std::vector<Leg> loop_legs(const double L0[3], const double L1[3], const double L2[3], Mat3 R0,
+                           double a, int ax2, double b)
+{
+  const Mat3 R1 = mul(R0, rot(2, a)), R2 = mul(R1, rot(ax2, b));
+  auto fixed = [](const double* x, const double* y, Mat3 R) {
+    return Leg{{x[0], x[1], x[2]}, {y[0], y[1], y[2]}, R, 0, 0.0, 0.0};
+  };
+  auto turn = [](const double* x, Mat3 R, int ax, double a0, double a1) {
+    return Leg{{x[0], x[1], x[2]}, {x[0], x[1], x[2]}, R, ax, a0, a1};
+  };
+  return {fixed(L0, L1, R0), turn(L1, R0, 2, 0, a),   fixed(L1, L2, R1),    turn(L2, R1, ax2, 0, b),
+          fixed(L2, L0, R2), turn(L0, R1, ax2, b, 0), turn(L0, R0, 2, a, 0)};
+}
+
+// 10. At fixed damage the law has a potential: a closed strain loop with rotating principal
+// directions, small enough not to raise kappa, returns exactly the work it took, and dissipates
+// nothing. Measured: |net work| / largest psi <= 5e-16. With the previous law (tensile principal
+// STRESSES scaled by 1 - d) the same loops RETURNED 6.4 % (Solid), 6.0 % (PlaneStrain), 4.3 %
+// (PlaneStress) and 6.4 % (Axisymmetric) of the largest psi more than they took, and its D fell
+// by as much each cycle.
+TEST(Rankine, ClosedStrainLoopAtFixedDamageDoesNoNetWork)
+{
+  const RankineParams p = concrete(Softening::Linear, 0.2);
   const double k0 = p.ft / p.E;
-  const std::vector<double> X = box(0.1, 0.12, 0.08);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-0.3 * k0, 0.3 * k0);
-  Point pt;
-  double eps[6] = {0, 0, 0, 0, 0, 0}, prev_e[6] = {0, 0, 0, 0, 0, 0};
-  double prev_s[6] = {0, 0, 0, 0, 0, 0};
-  double work = 0;
-  for (int i = 0; i < 400; ++i) {
-    for (double& e : eps)
-      e += u(rng) + 0.02 * k0; // drifts into tension and softening
-    pt.step(p, StressMode::Solid, eps, X);
-    for (int k = 0; k < 6; ++k)
-      work += 0.5 * (prev_s[k] + pt.sigma[k]) * (eps[k] - prev_e[k]);
-    std::copy(eps, eps + 6, prev_e);
-    std::copy(pt.sigma, pt.sigma + 6, prev_s);
-    EXPECT_NEAR(work, pt.psi + rankine_dissipated(pt.state.data()), 1e-10 * p.ft * k0 * (i + 1));
+  const std::vector<double> X = box(0.1, 0.1, 0.1);
+  for (StressMode m : kAllModes) {
+    Point pt = damaged_point(p, m, 2.7 * k0, X); // kappa ~ 3 k0
+    const double d = rankine_damage(pt.state.data());
+    ASSERT_GT(d, 0.3);
+    ASSERT_LT(d, 0.9);
+    // Signs (+, -, +) and a positive trace all round; the third principal strain is the
+    // out-of-plane one in the 2D modes (0 in plane strain / stress, the hoop strain otherwise).
+    const bool flat = m == StressMode::PlaneStrain || m == StressMode::PlaneStress;
+    const double z = flat ? 0.0 : 1.0;
+    const double L0[3] = {1.0 * k0, -0.6 * k0, 0.3 * z * k0};
+    const double L1[3] = {1.6 * k0, -0.3 * k0, 0.2 * z * k0};
+    const double L2[3] = {1.2 * k0, -1.0 * k0, 0.5 * z * k0}; // flat: trace 0.2 k0
+    const Mat3 R0 =
+        m == StressMode::Solid ? mul(rot(2, 0.3), mul(rot(1, 0.7), rot(0, 1.1))) : Mat3();
+    const auto path = loop_strains(loop_legs(L0, L1, L2, R0, 0.9, m == StressMode::Solid ? 0 : 2,
+                                             m == StressMode::Solid ? 1.2 : 1.1),
+                                   200);
+    pt.step(p, m, path[0].data(), X);
+    const double D = rankine_dissipated(pt.state.data());
+    double work = 0, psi_max = pt.psi, sig_prev[6];
+    std::copy(pt.sigma, pt.sigma + 6, sig_prev);
+    for (size_t i = 1; i < path.size(); ++i) {
+      pt.step(p, m, path[i].data(), X);
+      double de[6];
+      for (int k = 0; k < 6; ++k)
+        de[k] = path[i][k] - path[i - 1][k];
+      work += 0.5 * (vdot(sig_prev, de) + vdot(pt.sigma, de));
+      std::copy(pt.sigma, pt.sigma + 6, sig_prev);
+      psi_max = std::max(psi_max, pt.psi);
+    }
+    EXPECT_EQ(rankine_damage(pt.state.data()), d) << int(m); // kappa not raised
+    EXPECT_LT(std::fabs(work), 1e-12 * psi_max) << "mode " << int(m) << " work " << work;
+    EXPECT_EQ(rankine_dissipated(pt.state.data()), D) << int(m);
   }
-  EXPECT_GT(rankine_damage(pt.state.data()), 0.5);
-  EXPECT_GT(rankine_dissipated(pt.state.data()), 0.0);
+}
+
+// 11. The stress is the derivative of the returned energy psi at fixed d (central differences),
+// for mixed-sign principal strains in a rotated frame, with positive and negative trace
+// (measured: within 1e-10 |sigma|). The previous law's stress differed from the derivatives of
+// its secant energy by up to 22 % of |sigma| here.
+TEST(Rankine, StressIsTheDerivativeOfPsiAtFixedDamage)
+{
+  const RankineParams p = concrete(Softening::Linear, 0.2);
+  const double k0 = p.ft / p.E, hfd = 1e-6 * k0;
+  const std::vector<double> X = box(0.1, 0.1, 0.1);
+  for (StressMode m : kAllModes) {
+    const Point damaged = damaged_point(p, m, 2.7 * k0, X);
+    ASSERT_GT(rankine_damage(damaged.state.data()), 0.3);
+    const bool flat = m == StressMode::PlaneStrain || m == StressMode::PlaneStress;
+    const Mat3 R =
+        m == StressMode::Solid ? mul(rot(0, 0.4), mul(rot(1, -0.8), rot(2, 0.6))) : rot(2, 0.6);
+    const double cases[2][3] = {{1.2, -0.7, 0.4}, {0.5, -1.5, -0.3}}; // trace > 0, < 0
+    for (const auto& c : cases) {
+      const double l[3] = {c[0] * k0, c[1] * k0, flat ? 0.0 : c[2] * k0};
+      double eps[6];
+      strain_of(l, R, eps);
+      Point at = damaged;
+      at.step(p, m, eps, X);
+      const double scale = std::sqrt(vdot(at.sigma, at.sigma));
+      for (int k = 0; k < 6; ++k) {
+        const bool active = m == StressMode::Solid || k == 0 || k == 1 || k == 3 ||
+                            (k == 2 && m == StressMode::Axisymmetric);
+        if (!active) continue;
+        double e1[6], e2[6];
+        std::copy(eps, eps + 6, e1);
+        std::copy(eps, eps + 6, e2);
+        e1[k] += hfd;
+        e2[k] -= hfd;
+        Point a = damaged, b = damaged;
+        a.step(p, m, e1, X);
+        b.step(p, m, e2, X);
+        EXPECT_EQ(rankine_damage(a.state.data()), rankine_damage(damaged.state.data()));
+        EXPECT_NEAR(at.sigma[k], (a.psi - b.psi) / (2 * hfd), 1e-7 * scale)
+            << "mode " << int(m) << " component " << k << " trace " << c[0] + c[1] + c[2];
+      }
+    }
+  }
+}
+
+// 12. Compression after complete failure is carried elastically: sigma = C eps whenever every
+// principal strain is <= 0, in every mode, also for nu < 0. For nu >= 0 the previous law did the
+// same (such strains give compressive principal stresses only), but for nu < 0 (lambda < 0) the
+// term lambda tr eps > 0 can make a principal STRESS tensile under an all-compressive strain, and
+// the previous law degraded it (here, with d = 1, removed it: up to 1.9 MPa off in a component).
+TEST(Rankine, AllCompressiveStrainIsElasticAfterCompleteFailure)
+{
+  const std::vector<double> X = box(0.1, 0.1, 0.1);
+  for (double nu : {0.2, -0.3}) {
+    const RankineParams p = concrete(Softening::Linear, nu);
+    const double k0 = p.ft / p.E, mu = p.E / (2 * (1 + nu));
+    for (StressMode m : kAllModes) {
+      const Point failed = damaged_point(p, m, 1.2 * kappa_f(p, 0.1), X);
+      ASSERT_EQ(rankine_damage(failed.state.data()), 1.0);
+      const bool flat = m == StressMode::PlaneStrain || m == StressMode::PlaneStress;
+      const double lam = m == StressMode::PlaneStress ? p.E * nu / (1 - nu * nu)
+                                                      : p.E * nu / ((1 + nu) * (1 - 2 * nu));
+      const Mat3 R =
+          m == StressMode::Solid ? mul(rot(2, 1.0), mul(rot(0, 0.5), rot(1, 0.2))) : rot(2, 1.0);
+      const double l[3] = {-0.2 * k0, -1.0 * k0, flat ? 0.0 : -3.0 * k0};
+      double eps[6];
+      strain_of(l, R, eps);
+      if (flat) eps[2] = eps[4] = eps[5] = 0; // round-off of the turned frame
+      Point pt = failed;
+      pt.step(p, m, eps, X);
+      const double tr = eps[0] + eps[1] + eps[2];
+      const double ref[6] = {lam * tr + 2 * mu * eps[0],
+                             lam * tr + 2 * mu * eps[1],
+                             m == StressMode::PlaneStress ? 0.0 : lam * tr + 2 * mu * eps[2],
+                             mu * eps[3],
+                             mu * eps[4],
+                             mu * eps[5]};
+      const double scale = std::sqrt(vdot(ref, ref));
+      for (int k = 0; k < 6; ++k)
+        EXPECT_NEAR(pt.sigma[k], ref[k], 1e-12 * scale) << "nu " << nu << " mode " << int(m);
+    }
+  }
+  // What the strain split does differently: uniaxial compressive STRESS with nu > 0 expands
+  // sideways (tensile principal strains), which a failed point no longer resists. Then
+  // tr eps = 0, sigma_yy = sigma_zz = 0 and sigma_xx = 2 mu eps_xx (modulus E / (1 + nu), not E).
+  const RankineParams p = concrete(Softening::Linear, 0.2);
+  const double mu = p.E / (2 * (1 + p.nu)), e = -3 * p.ft / p.E;
+  Point pt = damaged_point(p, StressMode::Solid, 1.2 * kappa_f(p, 0.1), X);
+  const double eps[6] = {e, -0.5 * e, -0.5 * e, 0, 0, 0};
+  pt.step(p, StressMode::Solid, eps, X);
+  EXPECT_NEAR(pt.sigma[0], 2 * mu * e, 1e-12 * mu * std::fabs(e));
+  EXPECT_NEAR(pt.sigma[1], 0.0, 1e-12 * mu * std::fabs(e));
+  EXPECT_NEAR(pt.sigma[2], 0.0, 1e-12 * mu * std::fabs(e));
+}
+
+// 13. Along random non-proportional strain paths (drifting into tension, then wandering across
+// tension and compression with the damage mostly fixed) the dissipation never decreases, does
+// not change at all while d does not, and work = psi + D. The last holds to the accuracy of the
+// trapezoidal work sum: the energy is piecewise quadratic, so the sum has an O(step^2) error
+// where principal strains change sign or the frame turns; halving the steps must quarter it.
+// (Replaces the round-off balance of the previous bookkeeping, D += 0.5 (sigma_prev : eps -
+// sigma : eps_prev), which is the trapezoidal work minus psi by definition and therefore fell
+// whenever that quadrature error, or the previous law's work on a closed loop, was negative: on
+// these paths its D fell at half of the fixed-damage steps and ended negative in Solid.)
+// Measured: worst |work - psi - D| / D = 5.3e-5 (Solid), 2.3e-5 (PlaneStress) with 16 substeps.
+TEST(Rankine, DissipationNeverDecreasesAndWorkEqualsPsiPlusD)
+{
+  for (StressMode m : {StressMode::Solid, StressMode::PlaneStress}) {
+    const RankineParams p = concrete(Softening::Exponential, 0.2);
+    const double k0 = p.ft / p.E;
+    const std::vector<double> X = box(0.1, 0.12, 0.08);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-0.3 * k0, 0.3 * k0);
+    std::vector<std::vector<double>> corners(1, std::vector<double>(6, 0.0));
+    for (int i = 0; i < 400; ++i) {
+      std::vector<double> next = corners.back();
+      for (double& e : next)
+        e += u(rng) + (i < 150 ? 0.02 * k0 : -0.006 * k0); // into tension, then back and forth
+      corners.push_back(next);
+    }
+    double residual[2];
+    for (int r = 0; r < 2; ++r) {
+      const int sub = r == 0 ? 16 : 32; // substeps per segment of the path
+      Point pt;
+      double work = 0, worst = 0, D = 0, d = 0, sig_prev[6] = {0, 0, 0, 0, 0, 0};
+      for (size_t c = 1; c < corners.size(); ++c)
+        for (int s = 1; s <= sub; ++s) {
+          double eps[6], de[6];
+          for (int k = 0; k < 6; ++k) {
+            eps[k] = corners[c - 1][k] + (corners[c][k] - corners[c - 1][k]) * s / sub;
+            de[k] = (corners[c][k] - corners[c - 1][k]) / sub;
+          }
+          if (m == StressMode::PlaneStress) de[2] = de[4] = de[5] = 0; // ignored by the mode
+          pt.step(p, m, eps, X);
+          work += 0.5 * (vdot(sig_prev, de) + vdot(pt.sigma, de));
+          std::copy(pt.sigma, pt.sigma + 6, sig_prev);
+          const double D_new = rankine_dissipated(pt.state.data());
+          const double d_new = rankine_damage(pt.state.data());
+          EXPECT_GE(D_new, D) << "mode " << int(m) << " corner " << c;
+          if (d_new == d) EXPECT_EQ(D_new, D) << "mode " << int(m) << " corner " << c;
+          D = D_new, d = d_new;
+          worst = std::max(worst, std::fabs(work - pt.psi - D));
+        }
+      EXPECT_GT(d, 0.5);
+      EXPECT_LT(worst, 1e-3 * D) << "mode " << int(m) << " substeps " << sub;
+      residual[r] = worst;
+    }
+    // O(step^2): 4x smaller with half the step (measured 4.1x Solid, 4.7x PlaneStress).
+    EXPECT_GT(residual[0] / residual[1], 3.0) << int(m);
+  }
 }
 
 // 9. No NaN: zero strain, tiny (denormal) strain, degenerate or missing element at onset.

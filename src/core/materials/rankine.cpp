@@ -38,14 +38,20 @@ void effective_strain(StressMode mode, const double in[6], double e[6])
   if (mode != StressMode::Axisymmetric) e[2] = 0; // plane strain: given; plane stress: ignored
 }
 
+// Lame constants of the mode. Plane stress: eliminating eps_zz from sigma_zz = 0 gives lambda* =
+// 2 lambda mu / (lambda + 2 mu) = E nu / (1 - nu^2) for the in-plane law.
+void lame(const RankineParams& p, StressMode mode, double& lam, double& mu)
+{
+  mu = p.E / (2 * (1 + p.nu));
+  lam = mode == StressMode::PlaneStress ? p.E * p.nu / (1 - p.nu * p.nu)
+                                        : p.E * p.nu / ((1 + p.nu) * (1 - 2 * p.nu));
+}
+
 void trial_stress(const RankineParams& p, StressMode mode, const double e[6], double s[6])
 {
-  const double mu = p.E / (2 * (1 + p.nu));
-  double lam = p.E * p.nu / ((1 + p.nu) * (1 - 2 * p.nu));
-  // Plane stress: eliminating eps_zz from sigma_zz = 0 gives lambda* = 2 lambda mu / (lambda +
-  // 2 mu) = E nu / (1 - nu^2); e[2] is already 0 so the 3D formula below does the rest.
-  if (mode == StressMode::PlaneStress) lam = p.E * p.nu / (1 - p.nu * p.nu);
-  const double tr = e[0] + e[1] + e[2];
+  double lam, mu;
+  lame(p, mode, lam, mu);
+  const double tr = e[0] + e[1] + e[2]; // plane stress: e[2] is 0, the 2D trace
   for (int k = 0; k < 3; ++k)
     s[k] = lam * tr + 2 * mu * e[k];
   for (int k = 3; k < 6; ++k)
@@ -160,6 +166,32 @@ void update_damage(const RankineParams& p, double s1, const double n1[3], const 
   st[kDamage] = std::max(st[kDamage], std::min(1.0, std::max(0.0, d)));
 }
 
+// Tensile part of the stress, sigma+ = d psi+ / d eps = lambda <tr eps>+ I + 2 mu eps+ (Miehe's
+// spectral strain split; e: engineering shear). The principal strains are taken along n, the trial
+// stress's principal directions: isotropic elasticity (mu > 0) makes them the strain's as well,
+// so no second eigen-solve is needed. In the plane modes one n is e_z, with strain 0 there.
+void tensile_part(double lam, double mu, const double e[6], const double n[3][3], double sp[6])
+{
+  const double tr = std::max(0.0, e[0] + e[1] + e[2]);
+  for (int k = 0; k < 3; ++k)
+    sp[k] = lam * tr;
+  for (int k = 3; k < 6; ++k)
+    sp[k] = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double* v = n[i];
+    const double ei = v[0] * v[0] * e[0] + v[1] * v[1] * e[1] + v[2] * v[2] * e[2] +
+                      v[0] * v[1] * e[3] + v[1] * v[2] * e[4] + v[2] * v[0] * e[5];
+    if (!(ei > 0)) continue;
+    const double c = 2 * mu * ei;
+    sp[0] += c * v[0] * v[0];
+    sp[1] += c * v[1] * v[1];
+    sp[2] += c * v[2] * v[2];
+    sp[3] += c * v[0] * v[1];
+    sp[4] += c * v[1] * v[2];
+    sp[5] += c * v[2] * v[0];
+  }
+}
+
 } // namespace
 
 double rankine_stress(const RankineParams& p, StressMode mode, const double eps_in[6],
@@ -180,30 +212,26 @@ double rankine_stress(const RankineParams& p, StressMode mode, const double eps_
     return 0.5 * voigt_dot(sigma, eps);
   }
   principal(str, s, n);
+  const double d_old = state[kDamage];
   update_damage(p, s[0], n[0], elem_X, nnodes, state);
   const double d = state[kDamage];
   for (int k = 0; k < 6; ++k)
     sigma[k] = str[k];
   if (d > 0) {
-    // Rotating crack: remove the share d of every tensile principal stress, in its current
-    // direction; compressive ones stay elastic.
-    for (int i = 0; i < 3; ++i) {
-      if (!(s[i] > 0)) continue;
-      const double ds = d * s[i];
-      const double* v = n[i];
-      sigma[0] -= ds * v[0] * v[0];
-      sigma[1] -= ds * v[1] * v[1];
-      sigma[2] -= ds * v[2] * v[2];
-      sigma[3] -= ds * v[0] * v[1];
-      sigma[4] -= ds * v[1] * v[2];
-      sigma[5] -= ds * v[2] * v[0];
-    }
+    // sigma = (1 - d) sigma+ + sigma- = sigma_tr - d sigma+: the derivative of psi at fixed d.
+    double lam, mu, sp[6];
+    lame(p, mode, lam, mu);
+    tensile_part(lam, mu, eps, n, sp);
+    for (int k = 0; k < 6; ++k)
+      sigma[k] -= d * sp[k];
     if (s[0] > 0) std::copy(n[0], n[0] + 3, state + kNormal);
     if (mode == StressMode::PlaneStress) sigma[2] = 0; // exact zeros, not round-off
     if (mode != StressMode::Solid) sigma[4] = sigma[5] = 0;
-    // Trapezoidal work minus the change of stored energy (see rankine.h).
-    state[kDissipated] +=
-        0.5 * (voigt_dot(state + kSigPrev, eps) - voigt_dot(sigma, state + kEpsPrev));
+    // Dissipation psi+ dd, psi+ by 0.5 sigma+(eps) : eps_prev (second order, see rankine.h).
+    // A step so large that eps_prev lies on the compressive side of sigma+ gives no sign: the
+    // rate psi+ dd/dt is never negative, so neither is the increment.
+    const double dd = d - d_old;
+    if (dd > 0) state[kDissipated] += std::max(0.0, 0.5 * dd * voigt_dot(sp, state + kEpsPrev));
   }
   std::copy(eps, eps + 6, state + kEpsPrev);
   std::copy(sigma, sigma + 6, state + kSigPrev);

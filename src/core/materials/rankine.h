@@ -12,6 +12,7 @@ namespace fracdem
 //  * Principal decomposition sigma_tr = sum_i s_i n_i n_i^T, s_1 >= s_2 >= s_3, by cyclic Jacobi
 //    to machine precision (deterministic: the same input gives the same bits). Ties keep the
 //    coordinate order; each n_i is signed so that its largest-magnitude component is positive.
+//    C is isotropic, so the n_i are the principal directions of the strain as well.
 //  * Equivalent strain kappa = max over history of s_1 / E (never decreases; below f_t / E,
 //    where a Gershgorin bound already proves s_1 < f_t, it is not updated). kappa0 = ft / E.
 //  * Softening curve f(kappa), the stress still carried across the crack for kappa > kappa0:
@@ -24,23 +25,45 @@ namespace fracdem
 //    of the element across the major principal direction n_1 at that moment:
 //      h = max_a (n_1 . X_a) - min_a (n_1 . X_a)   over the element's reference nodes X_a.
 //  * Damage d = 1 - f(kappa) / (E kappa), clamped to [0, 1], never decreasing.
-//  * Stress: sigma = sum_i s_i' n_i n_i^T, s_i' = (1 - d) s_i for s_i > 0 (every tensile principal
-//    stress is degraded along its current direction: rotating crack), s_i' = s_i for s_i <= 0
-//    (compression crosses a crack elastically). Unloading is secant, straight to the origin.
-//    While d = 0 the trial stress is returned as it is (bit for bit).
-//  * Dissipated energy density D: each call adds the trapezoidal work of the step minus the change
-//    of the stored secant energy psi = 0.5 sigma : eps, i.e. D += 0.5 (sigma_prev : eps -
-//    sigma : eps_prev), so that work = psi + D holds at every point, step by step. Steps with
-//    d = 0 add nothing (elastic steps dissipate nothing; C is symmetric).
+//  * Stress: Miehe's spectral strain split, a rotating crack derived from a potential. With the
+//    principal strains eps_i (tensor strain) along n_i, eps+ = sum <eps_i>+ n_i n_i^T and
+//    eps- = eps - eps+,
+//      psi(eps, d) = (1 - d) psi+ + psi-,  psi+ = lambda/2 <tr eps>+^2 + mu sum_i <eps_i>+^2,
+//                                          psi- = lambda/2 <tr eps>-^2 + mu sum_i <eps_i>-^2,
+//      sigma = d psi / d eps = (1 - d) sigma+ + sigma-,  sigma+ = lambda <tr eps>+ I + 2 mu eps+,
+//    computed as sigma_tr - d sigma+ (sigma_tr = sigma+ + sigma-). Tensile strain is degraded
+//    along its current directions (the crack rotates); compression, all eps_i <= 0, crosses a
+//    crack elastically. Unloading at fixed d is secant: psi+ and psi- are homogeneous of degree
+//    2, so 0.5 sigma : eps = psi. While d = 0 the trial stress is returned as it is (bit for bit).
+//    Why a potential: at fixed d the law is hyperelastic, so no closed strain loop gains or loses
+//    work. The earlier law (every tensile principal STRESS scaled by 1 - d) has a non-symmetric
+//    tangent for nu != 0; strain loops at fixed d returned up to ~16 % more work than they took,
+//    and fragments rattling in contact drove such loops without bound.
+//    With nu = 0 (lambda = 0) both laws coincide; uniaxial tension gives sigma = (1 - d) E eps.
+//    A difference for nu > 0: the lateral (tensile) strains of uniaxial compression are degraded
+//    too, so a failed point (d = 1) under uniaxial compressive stress expands sideways freely and
+//    has the modulus 2 mu = E / (1 + nu) instead of E.
+//  * Dissipated energy density D = integral of psi+ dd, the release rate -d psi / d d = psi+ >= 0
+//    times d's growth: each call with d growing adds 0.5 (d - d_prev) sigma+(eps) : eps_prev, a
+//    second-order quadrature of psi+ over the step (clamped at 0 for a step so large that eps_prev
+//    lies on the compressive side of sigma+). D never decreases, and calls at fixed d add exactly
+//    nothing. work = psi + D holds to the accuracy of the caller's quadrature of the work: on the
+//    piecewise quadratic psi a trapezoidal sum of sigma : d eps has its own O(step^2) error where
+//    the strain path bends or a principal strain changes sign. (The earlier bookkeeping,
+//    D += 0.5 (sigma_prev : eps - sigma : eps_prev), is this increment plus exactly that error,
+//    so it went down, e.g., by 0.5 d E |eps_prev eps| whenever a step reopened a crack.)
 //
 // Stress modes (the 3x3 strain/stress in Voigt order xx, yy, zz, xy, yz, zx):
 //   Solid        : full 3D.
 //   PlaneStrain  : eps_zz = 0 and yz = zx = 0 are enforced (whatever the input holds there);
 //                  sigma_zz = lambda (eps_xx + eps_yy) follows and enters the principal stresses.
+//                  The split is the 3D one with eps_zz = 0 as a principal strain of its own.
 //   PlaneStress  : in-plane stress from lambda* = 2 lambda mu / (lambda + 2 mu) and mu; eps_zz is
-//                  ignored, sigma_zz = sigma_yz = sigma_zx = 0 are returned.
-//   Axisymmetric : the zz slot is the hoop component (a principal direction of its own);
-//                  yz = zx = 0 are enforced.
+//                  ignored, sigma_zz = sigma_yz = sigma_zx = 0 are returned. The split is that of
+//                  the condensed 2D energy lambda*/2 (tr eps)^2 + mu sum eps_i^2 over the two
+//                  in-plane principal strains (lambda* in psi+- and sigma+-).
+//   Axisymmetric : the zz slot is the hoop component (a principal direction and principal
+//                  strain of its own); yz = zx = 0 are enforced.
 //
 // Limits the caller must respect (the kernel does not check them, it runs per point per step):
 //  * Validate the parameters once with rankine_check.
@@ -61,7 +84,8 @@ namespace fracdem
 //                    and s_1 > 0 (kept as it was while no principal stress is tensile); 0 before
 //   [6]      D       dissipated energy per unit volume
 //   [7..12]  eps_prev  strain of the previous call, as used (after the mode's constraints)
-//   [13..18] sig_prev  stress of the previous call
+//   [13..18] sig_prev  stress of the previous call (written for the layout's sake; the kernel no
+//                      longer reads it)
 //   [19]     reserved (stays 0)
 
 enum class Softening : std::uint8_t { Linear, Exponential };
