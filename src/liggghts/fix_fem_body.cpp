@@ -94,6 +94,8 @@ enum VectorIndex {
   kBoundaryWork,
   kVectorSize
 };
+// After the reaction forces (3 per group), so that the indices above and of the reactions stay.
+enum TailIndex { kErodedElements = 0, kErodedMass, kErodedEnergy, kShieldWork, kTailSize };
 
 } // namespace
 
@@ -111,7 +113,7 @@ FixFemBody::FixFemBody(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
   scalar_flag = 1;
   extscalar = 1;
   vector_flag = 1;
-  size_vector = kVectorSize + 3 * static_cast<int>(reaction_groups_.size());
+  size_vector = kVectorSize + 3 * static_cast<int>(reaction_groups_.size()) + kTailSize;
   extvector = 0;
   global_freq = 1;
   // time_integrate stays 0: this fix integrates FE nodes, never the host's atoms.
@@ -303,6 +305,12 @@ void FixFemBody::parse_arguments(int narg, char** arg)
       parse_fracture(narg, arg, iarg);
     } else if (!strcmp(kw, "bulk_viscosity")) {
       parse_bulk_viscosity(narg, arg, iarg);
+    } else if (!strcmp(kw, "erosion")) {
+      parse_erosion(narg, arg, iarg);
+    } else if (!strcmp(kw, "erosion_mass")) {
+      erosion_.remove_mass = !either(iarg, kw, "keep", "remove");
+      have_erosion_mass_ = true;
+      iarg += 2;
     } else if (!strcmp(kw, "contact_model")) {
       need(iarg, 1, kw, "hertz or hooke");
       normal_model_ = lookup(error, kNormalModelTable, kw, arg[iarg + 1]);
@@ -468,6 +476,23 @@ void FixFemBody::parse_bulk_viscosity(int narg, char** arg, int& iarg)
   iarg += 3;
 }
 
+// erosion plastic_strain EPS | damage D | min_dt DT (any of them, in any order, on one keyword):
+// the values are checked against the material by the core (erosion_setup_error).
+void FixFemBody::parse_erosion(int narg, char** arg, int& iarg)
+{
+  const std::map<std::string, double*> criteria = {{"plastic_strain", &erosion_.plastic_strain},
+                                                   {"damage", &erosion_.damage},
+                                                   {"min_dt", &erosion_.min_dt}};
+  int used = 0;
+  for (iarg += 1; iarg + 1 < narg && criteria.count(arg[iarg]); iarg += 2, ++used) {
+    const std::string keyword = std::string("erosion ") + arg[iarg];
+    *criteria.at(arg[iarg]) = number(keyword.c_str(), arg[iarg + 1]);
+  }
+  if (used == 0 || !erosion_.on())
+    error->all(FLERR, "fix fem/body: keyword 'erosion' expects one or more of 'plastic_strain "
+                      "EPS' (EPS > 0), 'damage D' (0 < D <= 1), 'min_dt DT' (DT > 0)");
+}
+
 // Index of the reaction account of a node group (one per group name, in order of appearance).
 int FixFemBody::reaction_group(const std::string& set)
 {
@@ -538,6 +563,20 @@ void FixFemBody::check_arguments()
   if (contact_bodies_ < 0) contact_bodies_ = 0;
   if (contact_bodies_ && rigid_)
     error->all(FLERR, "fix fem/body: keyword 'contact_bodies yes' needs a deformable body");
+  check_erosion();
+}
+
+// Criteria out of range or that could never trigger are refused by the core, naming 'erosion'.
+void FixFemBody::check_erosion()
+{
+  const bool asked = erosion_.plastic_strain != 0 || erosion_.damage != 0 || erosion_.min_dt != 0;
+  if (asked) {
+    const std::string err = fracdem::erosion_setup_error(erosion_, material_, rigid_);
+    if (!err.empty()) error->all(FLERR, (std::string(kStyle) + ": " + keyword_error(err)).c_str());
+  }
+  if (have_erosion_mass_ && !asked && fracture_every_ == 0)
+    error->all(FLERR, "fix fem/body: keyword 'erosion_mass' applies to bodies that erode "
+                      "elements ('erosion ...' or 'fracture nodal')");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -591,8 +630,10 @@ void FixFemBody::load_mesh()
   // Every rank holds the whole body (replicated). The element work of a material without
   // history is split evenly; one with history (softening, cracks, the viscous work of the bulk
   // viscosity) is advanced on every rank, so that every replica holds the whole material state
-  // (fracture decisions, restart, energy accounts).
-  split_element_work_ = body_.space().state_size() == 0 && !viscosity_.on && comm->nprocs > 1;
+  // (fracture decisions, restart, energy accounts). So is an eroding body's, so that every
+  // replica sees every inverted element and erodes the same elements.
+  split_element_work_ =
+      body_.space().state_size() == 0 && !viscosity_.on && !erosion_.on() && comm->nprocs > 1;
   if (split_element_work_) {
     const long long ne = body_.mesh().num_elems();
     body_.set_element_range(static_cast<int>((ne * comm->me) / comm->nprocs),
@@ -825,9 +866,11 @@ void FixFemBody::init()
     // does not crack); the bulk viscosity's work has a column of its own.
     fprintf(energy_fp_,
             "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
-            "%s,split_nodes,fragments,boundary_work%s",
+            "%s,split_nodes,fragments,boundary_work%s%s%s",
             material_.plastic_model() ? "plastic_work" : "fracture_energy",
-            viscosity_.on ? ",viscous_work" : "");
+            viscosity_.on ? ",viscous_work" : "",
+            can_erode() ? ",eroded_elements,eroded_mass,eroded_energy" : "",
+            body_.space().axisymmetric() ? ",shield_work" : "");
     for (const std::string& g : reaction_groups_)
       fprintf(energy_fp_, ",reaction_%s_x,reaction_%s_y,reaction_%s_z", g.c_str(), g.c_str(),
               g.c_str());
@@ -844,16 +887,19 @@ void FixFemBody::reset_dt()
   check_time_step();
 }
 
+// With 'erosion min_dt DT' the elements below DT leave at the first force evaluation: the step
+// that counts is that of the others.
 void FixFemBody::check_time_step()
 {
   if (rigid_) return;
-  dt_stable_ = body_.stable_time_step();
+  dt_stable_ = fracdem::stable_time_step_after_erosion(body_, erosion_);
   const double dt = update->dt;
   if (comm->me == 0) {
     char line[256];
     snprintf(line, sizeof(line),
-             "fix fem/body %s: stable FE time step %.6g, host time step %.6g (%.1f%%)\n", id,
-             dt_stable_, dt, 100.0 * dt / dt_stable_);
+             "fix fem/body %s: stable FE time step %.6g, host time step %.6g (%.1f%%)%s\n", id,
+             dt_stable_, dt, 100.0 * dt / dt_stable_,
+             erosion_.min_dt > 0 ? " without the elements below erosion min_dt" : "");
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
   }
@@ -955,15 +1001,7 @@ void FixFemBody::compute_forces()
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
   // particles; one reduction makes every replica identical.
   int first_inverted = -1;
-  double local_energy = body_.add_internal_forces(&first_inverted);
-  // A breaking body erodes an element that inverts (it would only produce garbage) and takes
-  // the step's internal forces again; its element work is replicated, so every rank does so.
-  while (first_inverted >= 0 && fracture_every_ > 0 && !split_element_work_) {
-    erode_inverted(first_inverted);
-    body_.clear_internal_forces();
-    first_inverted = -1;
-    local_energy = body_.add_internal_forces(&first_inverted);
-  }
+  const double local_energy = internal_forces(first_inverted);
   // Contact between the body's pieces and with other bodies: taken once, on rank 0, into the
   // contact forces that the ranks sum.
   if (contact_bodies_ && comm->me == 0) body_contacts();
@@ -1008,6 +1046,101 @@ void FixFemBody::compute_forces()
     error->all(FLERR, msg);
   }
   body_.finish_forces(scalars[0], gravity_, update->dt, update->setupflag == 0);
+}
+
+// Internal forces of this rank's elements; returns their strain energy. A breaking or eroding
+// body erodes an element that inverts (it would only produce garbage), an eroding body also the
+// elements that meet its criteria, and the step's internal forces are taken again (the material
+// history does not advance twice). Its element work is replicated, so every rank does the same.
+// Otherwise an inverted element is left in first_inverted (the run stops).
+double FixFemBody::internal_forces(int& first_inverted)
+{
+  first_inverted = -1;
+  double energy = body_.add_internal_forces(&first_inverted);
+  if (erosion_.on()) return forces_after_erosion(energy, first_inverted);
+  while (first_inverted >= 0 && fracture_every_ > 0 && !split_element_work_) {
+    erode_inverted(first_inverted);
+    body_.clear_internal_forces();
+    first_inverted = -1;
+    energy = body_.add_internal_forces(&first_inverted);
+  }
+  return energy;
+}
+
+// erosion ...: the elements that meet a criterion and any that inverted leave in one batch, then
+// the forces are taken again until no element inverts; one log line per step. energy: that of
+// the evaluation before.
+double FixFemBody::forces_after_erosion(double energy, int& first_inverted)
+{
+  std::vector<int> elems;
+  std::vector<fracdem::ErosionCause> causes;
+  fracdem::select_eroding(body_, erosion_, elems, causes);
+  int counts[fracdem::kErosionCauses] = {0, 0, 0, 0};
+  std::vector<int> batch; // every element this step, for the log
+  for (;;) {
+    if (first_inverted >= 0 &&
+        std::find(elems.begin(), elems.end(), first_inverted) == elems.end()) {
+      elems.push_back(first_inverted);
+      causes.push_back(fracdem::ErosionCause::Inverted);
+    }
+    if (elems.empty()) break;
+    for (fracdem::ErosionCause c : causes)
+      ++counts[static_cast<int>(c)];
+    batch.insert(batch.end(), elems.begin(), elems.end());
+    body_.erode(elems, erosion_.remove_mass);
+    elems.clear();
+    causes.clear();
+    body_.clear_internal_forces();
+    first_inverted = -1;
+    energy = body_.add_internal_forces(&first_inverted);
+  }
+  if (!batch.empty()) after_erosion(counts, batch);
+  return energy;
+}
+
+// After an erosion batch: the exposed faces join contact at once, the batch is logged in one
+// line, and the stable step is taken again. With 'erosion min_dt DT' at or above the host step
+// no element is left below the host step; otherwise a squeezed element that no criterion removes
+// is warned about (once), as erosion never stops the run.
+void FixFemBody::after_erosion(const int* counts, const std::vector<int>& batch)
+{
+  rebuild_surfaces();
+  if (comm->me == 0) log_erosion(counts, batch);
+  dt_stable_ = body_.stable_time_step();
+  if (dt_stable_ >= update->dt || warned_dt_after_erosion_) return;
+  warned_dt_after_erosion_ = true;
+  char msg[400];
+  snprintf(msg, sizeof(msg),
+           "fix fem/body %s: after the erosion at step " BIGINT_FORMAT
+           " the stable FE time step is %g, below the host time step %g (an element squeezed "
+           "that no erosion criterion removes); 'erosion min_dt %g' erodes such elements "
+           "(warned once)",
+           id, update->ntimestep, dt_stable_, update->dt, update->dt);
+  if (comm->me == 0) error->warning(FLERR, msg);
+}
+
+// One line per step: how many left, why, which (the first kMaxListed), and the totals.
+void FixFemBody::log_erosion(const int* counts, const std::vector<int>& batch)
+{
+  constexpr std::size_t kMaxListed = 12;
+  std::string why, which;
+  for (int c = 0; c < fracdem::kErosionCauses; ++c)
+    if (counts[c] > 0)
+      why += (why.empty() ? "" : ", ") +
+             std::string(fracdem::erosion_cause_name(static_cast<fracdem::ErosionCause>(c))) + " " +
+             std::to_string(counts[c]);
+  for (std::size_t k = 0; k < batch.size() && k < kMaxListed; ++k)
+    which += " " + std::to_string(batch[k]);
+  if (batch.size() > kMaxListed) which += " ...";
+  const fracdem::ErosionAccount& acc = body_.eroded();
+  char tail[160];
+  snprintf(tail, sizeof(tail), "; %d eroded in all, mass %.6g removed, energy %.6g\n", acc.elements,
+           acc.mass, acc.energy);
+  const std::string line = "fix fem/body " + std::string(id) + ": step " +
+                           std::to_string(update->ntimestep) + ": eroded " +
+                           std::to_string(batch.size()) + " elements (" + why + "):" + which + tail;
+  if (logfile) fputs(line.c_str(), logfile);
+  if (screen) fputs(line.c_str(), screen);
 }
 
 // Once per run: a particle hits the body faster than the time step can follow (every rank
@@ -1075,10 +1208,21 @@ double FixFemBody::compute_vector(int i)
   case kBoundaryWork:
     return body_.boundary_work();
   }
-  if (i >= kVectorSize && i < size_vector) {
+  const int tail = kVectorSize + 3 * static_cast<int>(reaction_groups_.size());
+  if (i >= kVectorSize && i < tail) {
     const auto& r = body_.reactions();
     const size_t k = static_cast<size_t>(i - kVectorSize);
     return k < r.size() ? r[k] : 0.0;
+  }
+  switch (i - tail) {
+  case kErodedElements:
+    return body_.eroded().elements;
+  case kErodedMass:
+    return body_.eroded().mass;
+  case kErodedEnergy:
+    return body_.eroded().energy;
+  case kShieldWork:
+    return body_.shield_work();
   }
   return 0.0;
 }
@@ -1166,7 +1310,7 @@ int FixFemBody::body_contacts()
 
 void FixFemBody::erode_inverted(int e)
 {
-  body_.erode({e});
+  body_.erode({e}, erosion_.remove_mass);
   rebuild_surfaces();
   if (comm->me == 0) {
     char line[256];
@@ -1273,7 +1417,7 @@ int FixFemBody::erode_collapsed(const std::vector<double>& failure)
     if (logfile) fputs(line, logfile);
     if (screen) fputs(line, screen);
   }
-  body_.erode(eroded);
+  body_.erode(eroded, erosion_.remove_mass);
   return static_cast<int>(eroded.size());
 }
 
@@ -1305,6 +1449,10 @@ void FixFemBody::write_energy_row()
           ke + se, body_.num_nodes(), body_.mesh().num_active_elems(), body_.dissipated_energy(),
           split_nodes(), fragments(), body_.boundary_work());
   if (viscosity_.on) fprintf(energy_fp_, ",%.12g", body_.viscous_work());
+  if (can_erode())
+    fprintf(energy_fp_, ",%d,%.12g,%.12g", body_.eroded().elements, body_.eroded().mass,
+            body_.eroded().energy);
+  if (body_.space().axisymmetric()) fprintf(energy_fp_, ",%.12g", body_.shield_work());
   const auto& r = body_.reactions();
   for (size_t k = 0; k < 3 * reaction_groups_.size(); ++k)
     fprintf(energy_fp_, ",%.12g", k < r.size() ? r[k] : 0.0);

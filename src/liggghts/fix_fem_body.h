@@ -14,6 +14,7 @@
 #include "contact/particle_facet.h"
 #include "contact/surface_contact.h"
 #include "fem/body.h"
+#include "fem/erosion.h"
 #include "fracture/nodal_fracture.h"
 
 namespace LAMMPS_NS
@@ -96,7 +97,9 @@ private:
   static constexpr int kMaxHistorySlots = 64;
   void parse_fracture(int narg, char** arg, int& iarg);
   void parse_bulk_viscosity(int narg, char** arg, int& iarg);
+  void parse_erosion(int narg, char** arg, int& iarg);
   void check_arguments();
+  void check_erosion();
   void load_mesh();
   void log_body();
   void log_memory();
@@ -123,6 +126,15 @@ private:
   void log_fragments();
   int last_fragments_ = 1;
   void erode_inverted(int e);
+  double internal_forces(int& first_inverted);
+  double forces_after_erosion(double energy, int& first_inverted);
+  void after_erosion(const int* counts, const std::vector<int>& batch);
+  void log_erosion(const int* counts, const std::vector<int>& batch);
+  fracdem::ErosionCriteria erosion_; // erosion ...; erosion_mass (remove_mass)
+  bool have_erosion_mass_ = false;
+  bool warned_dt_after_erosion_ = false;
+  // The body can lose elements (energy-file columns eroded_*): erosion or nodal fracture.
+  bool can_erode() const { return erosion_.on() || fracture_every_ > 0; }
   int erode_collapsed(const std::vector<double>& failure);
   fracdem::FailureMap failure_map_;
   bool erode_cracked_ = false; // fracture nodal erode_cracked yes: failed elements leave

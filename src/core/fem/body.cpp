@@ -136,6 +136,7 @@ void Body::half_kick_drift(double dt)
   last_dt_ = dt; // the strain rate of rate-dependent materials at the next force evaluation
   const int nn = num_nodes();
   const double half = 0.5 * dt;
+  const bool axisym = space_.axisymmetric() && !rigid_;
   for (int n = 0; n < nn; ++n) {
     double* v = &v_[3 * n];
     double* x = &x_[3 * n];
@@ -145,6 +146,7 @@ void Body::half_kick_drift(double dt)
       v[0] += s * f[0];
       v[1] += s * f[1];
       v[2] += s * f[2];
+      if (axisym && x[0] + dt * v[0] < 0) shield_drift(n);
     } else if (bc_[n] == NodeBc::Fixed) {
       continue;
     } else if (bc_[n] == NodeBc::Partial) {
@@ -152,6 +154,7 @@ void Body::half_kick_drift(double dt)
       for (int d = 0; d < 3; ++d)
         if (!(held_[n] >> d & 1)) {
           v[d] += s * f_[3 * n + d];
+          if (d == 0 && axisym && x[0] + dt * v[0] < 0) shield_drift(n);
           x[d] += dt * v[d];
         }
       continue;
@@ -163,6 +166,35 @@ void Body::half_kick_drift(double dt)
     x[0] += dt * v[0];
     x[1] += dt * v[1];
     x[2] += dt * v[2];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   axis shield (axisymmetric bodies): x = r >= 0. A node whose drift would
+   cross the axis is stopped on it (its radial velocity, and the radial
+   kinetic energy with it, taken by the shield: a perfectly inelastic,
+   frictionless stop); a node resting on the axis is held there while its
+   force pushes it inward (a reaction that does no work: the node does not
+   move radially) and leaves as soon as the force pulls it out.
+------------------------------------------------------------------------- */
+
+void Body::shield_drift(int n)
+{
+  double* v = &v_[3 * n];
+  shield_work_ -= 0.5 * mass_[n] * v[0] * v[0];
+  ++shield_hits_;
+  v[0] = 0;
+  x_[3 * n] = 0; // the drift adds dt * 0
+}
+
+void Body::shield_forces()
+{
+  for (int n = 0; n < num_nodes(); ++n) {
+    const bool radial_free =
+        bc_[n] == NodeBc::Free || (bc_[n] == NodeBc::Partial && !(held_[n] & 1));
+    if (radial_free && x_[3 * n] <= 0 && v_[3 * n] <= 0 && f_[3 * n] < 0) {
+      f_[3 * n] = 0;
+    }
   }
 }
 
@@ -347,6 +379,7 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
   std::swap(f_contact_prev_, f_contact_);
   if (viscosity_.on && !rigid_) add_viscous_work(dt, count_work);
   if (!reactions_.empty()) add_reactions(dt, count_work);
+  if (space_.axisymmetric() && !rigid_) shield_forces();
   for (int n = 0; n < nn; ++n)
     if (bc_[n] == NodeBc::Partial) {
       for (int d = 0; d < 3; ++d)
@@ -443,11 +476,66 @@ int Body::split_node(const SplitPlan& plan)
   return copy;
 }
 
-void Body::erode(const std::vector<int>& elems)
+double Body::erode(const std::vector<int>& elems, bool remove_mass)
 {
-  for (int e : elems)
+  double strain = 0, kinetic = 0;
+  for (int e : elems) {
+    if (!mesh_.active[e]) continue;
+    // The energy it held leaves with it; an inverted element's may be garbage: not counted.
+    const double en = rigid_ ? 0.0 : space_.element_energy(mesh_, x_.data(), e, state_.data());
+    if (std::isfinite(en)) strain += en;
+    if (remove_mass) kinetic += remove_element_mass(e);
     mesh_.active[e] = 0;
-  if (!elems.empty()) stars_.build(mesh_); // once per batch: a rebuild is a pass over the mesh
+    ++eroded_.elements;
+  }
+  if (elems.empty()) return 0.0;
+  stars_.build(mesh_); // once per batch: a rebuild is a pass over the mesh
+  if (remove_mass) kinetic += release_bare_nodes(elems);
+  strain_energy_ -= strain; // until the next force evaluation counts the active elements only
+  eroded_.energy += strain + kinetic;
+  return strain + kinetic;
+}
+
+// Takes element e's share of the lumped mass off its nodes, with its momentum and kinetic energy
+// (counted as eroded); the nodes keep their velocity. Returns the kinetic energy removed.
+double Body::remove_element_mass(int e)
+{
+  double me[4];
+  space_.element_nodal_masses(mesh_, e, me);
+  double kinetic = 0;
+  for (int a = 0; a < nodes_per_elem(mesh_.etype[e]); ++a) {
+    const int n = mesh_.conn[e][a];
+    const double dm = std::min(me[a], mass_[n]);
+    const double* v = &v_[3 * n];
+    mass_[n] -= dm;
+    inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+    eroded_.mass += dm;
+    for (int d = 0; d < 3; ++d)
+      eroded_.momentum[d] += dm * v[d];
+    kinetic += 0.5 * dm * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  return kinetic;
+}
+
+// erosion_mass remove: a node of the eroded elements left without any element keeps neither the
+// round-off of its mass nor its velocity: it stops where it is (never 1/0: inv_mass is 0).
+double Body::release_bare_nodes(const std::vector<int>& elems)
+{
+  double kinetic = 0;
+  for (int e : elems)
+    for (int a = 0; a < nodes_per_elem(mesh_.etype[e]); ++a) {
+      const int n = mesh_.conn[e][a];
+      if (stars_.begin(n) != stars_.end(n)) continue;
+      double* v = &v_[3 * n];
+      const double dm = mass_[n];
+      eroded_.mass += dm;
+      for (int d = 0; d < 3; ++d)
+        eroded_.momentum[d] += dm * v[d];
+      kinetic += 0.5 * dm * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      mass_[n] = inv_mass_[n] = 0;
+      if (bc_[n] != NodeBc::Prescribed) v[0] = v[1] = v[2] = 0;
+    }
+  return kinetic;
 }
 
 /* ----------------------------------------------------------------------
@@ -500,6 +588,10 @@ std::size_t Body::memory_bytes() const
    version 3: version 2, then ne, per element viscous work, last viscous force q W and last
               volumetric strain rate (the stable step's damping; ne each);
               written only with bulk viscosity on, so other bodies keep writing version 2
+   version 4: version 2, then the viscous block of version 3 with ne = 0 (and nothing after it)
+              when the viscosity is off, then the erosion account (elements, mass, energy,
+              momentum x y z), the shield work and the shield hits (8); written only once an
+              element eroded or the shield acted, so other bodies keep writing version 2 or 3
 ------------------------------------------------------------------------- */
 
 void Body::pack_state(std::vector<double>& buf) const
@@ -507,7 +599,8 @@ void Body::pack_state(std::vector<double>& buf) const
   const int nn = num_nodes(), ne = mesh_.num_elems();
   buf.clear();
   buf.reserve(6 + 17 * nn + 6 * ne + state_.size());
-  const double version = viscosity_.on ? 3.0 : 2.0;
+  const bool accounts = eroded_.elements > 0 || shield_hits_ > 0;
+  const double version = accounts ? 4.0 : viscosity_.on ? 3.0 : 2.0;
   buf.insert(buf.end(), {version, double(nn), double(ne), time_, external_work_, contact_work_});
   buf.insert(buf.end(), mesh_.X.begin(), mesh_.X.end());
   buf.insert(buf.end(), x_.begin(), x_.end());
@@ -525,20 +618,28 @@ void Body::pack_state(std::vector<double>& buf) const
   buf.push_back(static_cast<double>(state_.size()));
   buf.insert(buf.end(), state_.begin(), state_.end());
   buf.push_back(boundary_work_);
-  if (!viscosity_.on) return;
-  buf.push_back(double(ne));
-  buf.insert(buf.end(), viscous_work_.begin(), viscous_work_.end());
-  buf.insert(buf.end(), viscous_force_prev_.begin(), viscous_force_prev_.end());
-  buf.insert(buf.end(), viscous_rate_.begin(), viscous_rate_.end());
+  if (viscosity_.on) {
+    buf.push_back(double(ne));
+    buf.insert(buf.end(), viscous_work_.begin(), viscous_work_.end());
+    buf.insert(buf.end(), viscous_force_prev_.begin(), viscous_force_prev_.end());
+    buf.insert(buf.end(), viscous_rate_.begin(), viscous_rate_.end());
+  } else if (accounts) {
+    buf.push_back(0.0);
+  }
+  if (!accounts) return;
+  buf.insert(buf.end(),
+             {double(eroded_.elements), eroded_.mass, eroded_.energy, eroded_.momentum[0],
+              eroded_.momentum[1], eroded_.momentum[2], shield_work_, double(shield_hits_)});
 }
 
 // The viscous accounts of a version-3 record. A record without them (viscosity off when it was
 // written, or older) starts the accounts at zero; one with them needs the viscosity on, or its
 // work would drop out of the energy balance.
-void Body::unpack_viscosity(int version, const double* p)
+const double* Body::unpack_viscosity(int version, const double* p)
 {
-  if (version < 3) return;
+  if (version < 3) return p;
   const int ne = static_cast<int>(*p++);
+  if (ne == 0) return p; // version 4 of a body without viscosity
   if (!viscosity_.on)
     throw std::runtime_error("restart file holds the work of a bulk viscosity but this body has "
                              "'bulk_viscosity off'; give it bulk viscosity as the run that wrote "
@@ -546,6 +647,7 @@ void Body::unpack_viscosity(int version, const double* p)
   std::copy(p, p + ne, viscous_work_.begin());
   std::copy(p + ne, p + 2 * ne, viscous_force_prev_.begin());
   std::copy(p + 2 * ne, p + 3 * ne, viscous_rate_.begin());
+  return p + 3 * ne;
 }
 
 void Body::unpack_state(const double* buf)
@@ -553,7 +655,7 @@ void Body::unpack_state(const double* buf)
   const int version = static_cast<int>(buf[0]);
   const int nn = static_cast<int>(buf[1]), ne = static_cast<int>(buf[2]);
   const int mesh_nodes = std::count(parent_.begin(), parent_.end(), -1);
-  if (version < 1 || version > 3 || ne != mesh_.num_elems() ||
+  if (version < 1 || version > 4 || ne != mesh_.num_elems() ||
       (version == 1 && nn != num_nodes()) || (version >= 2 && nn < mesh_nodes))
     throw std::runtime_error("restart file holds a body with " + std::to_string(nn) + " nodes / " +
                              std::to_string(ne) + " elements but the mesh has " +
@@ -611,7 +713,18 @@ void Body::unpack_state(const double* buf)
     boundary_work_ = p[nstate];
     p += nstate + 1;
   }
-  unpack_viscosity(version, p);
+  p = unpack_viscosity(version, p);
+  eroded_ = ErosionAccount();
+  shield_work_ = 0;
+  shield_hits_ = 0;
+  if (version >= 4) {
+    eroded_.elements = static_cast<int>(p[0]);
+    eroded_.mass = p[1];
+    eroded_.energy = p[2];
+    std::copy(p + 3, p + 6, eroded_.momentum);
+    shield_work_ = p[6];
+    shield_hits_ = static_cast<long>(p[7]);
+  }
   stars_.build(mesh_);
   if (version == 1) derive_masses(); // masses of the whole mesh, as that version's runs had
   for (int n = 0; n < nn; ++n)

@@ -20,6 +20,16 @@ namespace fracdem
 // in some components only (Partial: see the node's held-component mask).
 enum class NodeBc : std::uint8_t { Free = 0, Fixed = 1, Prescribed = 2, Partial = 3 };
 
+// What eroded elements took out of the body: their count, the mass removed with them
+// (erosion_mass remove), the strain energy they held plus the kinetic energy of the removed mass,
+// and the momentum of the removed mass. The energy balance reads
+// kinetic + strain + dissipated + energy = initial + external + contact + boundary + shield work.
+struct ErosionAccount {
+  int elements = 0;
+  double mass = 0, energy = 0;
+  double momentum[3] = {0, 0, 0};
+};
+
 // A deformable (or rigid, prescribed-motion) body, replicated on every rank of a run. The host
 // adapter moves data between it and the host; the body does the physics:
 //   step:  half_kick_drift(dt)  -> forces: begin_forces(), add_internal_forces(),
@@ -91,8 +101,14 @@ public:
     return space_.element_time_step(mesh_, x_.data(), e, viscosity_, viscous_rate_[e]);
   }
   const NodeStars& stars() const { return stars_; }
-  // Removes elements from the body (their nodes keep their masses and go on as point masses).
-  void erode(const std::vector<int>& elems);
+  // Removes elements from the body. Their strain energy now (evaluated on a copy of their state)
+  // leaves the body's strain energy for the erosion account. By default their nodes keep the mass
+  // and a node left without elements goes on as a free point mass; with remove_mass each
+  // element's lumped mass is taken off its nodes (with its momentum and kinetic energy, counted),
+  // and a node left without elements keeps neither mass nor velocity (it stays where it is).
+  // Returns the energy the erosion took out (strain + kinetic of removed mass).
+  double erode(const std::vector<int>& elems, bool remove_mass = false);
+  const ErosionAccount& eroded() const { return eroded_; }
 
   // ---- state ----
   const Mesh& mesh() const { return mesh_; }
@@ -120,6 +136,10 @@ public:
   double contact_work() const { return contact_work_; }
   // Work done on the body by its prescribed-velocity constraints (fixed nodes do none).
   double boundary_work() const { return boundary_work_; }
+  // Axisymmetric bodies: work of the axis shield (<= 0: the radial kinetic energy of the nodes
+  // it stopped at r = 0) and the number of times it stopped a node.
+  double shield_work() const { return shield_work_; }
+  long shield_hits() const { return shield_hits_; }
   const double* contact_force_total() const { return contact_force_total_; }
   double kinetic_energy() const;
   double momentum(int d) const;
@@ -183,7 +203,11 @@ private:
   void open_reaction_group(int group); // a reaction account for group (-1: none)
   void derive_masses();
   void add_viscous_work(double dt, bool count_work);
-  void unpack_viscosity(int version, const double* p);
+  const double* unpack_viscosity(int version, const double* p);
+  double remove_element_mass(int e);
+  double release_bare_nodes(const std::vector<int>& elems);
+  void shield_drift(int n);
+  void shield_forces();
 
   Mesh mesh_;
   FeSpace space_;
@@ -210,6 +234,9 @@ private:
   double time_ = 0;
   double last_dt_ = 0; // step of the last half_kick_drift (material strain rates)
   double strain_energy_ = 0, external_work_ = 0, contact_work_ = 0, boundary_work_ = 0;
+  ErosionAccount eroded_;
+  double shield_work_ = 0;
+  long shield_hits_ = 0;
   double contact_force_total_[3] = {0, 0, 0};
 };
 

@@ -770,12 +770,11 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
 
 /* ---------------------------------------------------------------------- */
 
-void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double sigma[6],
-                             const double* state) const
+// Element e alone on a copy of its state (output and erosion never advance the material
+// history): returns its strain energy, its stress (Voigt 6 or 4, see element_kernel) into s.
+double FeSpace::evaluate_copy(const Mesh& mesh, const double* x, int e, const double* state,
+                              double s[6]) const
 {
-  for (int k = 0; k < 6; ++k)
-    sigma[k] = 0;
-  // Evaluated on a copy of the element's state: output never advances the material history.
   double scratch[4 * kMaxStatePerPoint];
   const int ns = state_offset_[e + 1] - state_offset_[e];
   if (ns > 0) std::copy(state + state_offset_[e], state + state_offset_[e + 1], scratch);
@@ -783,8 +782,7 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   const ElemType t = mesh.etype[e];
-  double s[6] = {0, 0, 0, 0, 0, 0};
-  with_law(mat_, dim_, mesh, shift, scratch, 0.0, [&](auto& law) {
+  return with_law(mat_, dim_, mesh, shift, scratch, 0.0, [&](auto& law) {
     law.bind(0, mesh.conn[e]);
     double fl[12], detF;
     const double* g = &geo_[offset_[e]];
@@ -794,7 +792,16 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
     return element_kernel<false>(t, mesh.conn[e].data(), g, mesh.X.data(), x, law, bbar, fl, detF,
                                  s);
   });
-  if (t == ElemType::Tet4) {
+}
+
+void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double sigma[6],
+                             const double* state) const
+{
+  for (int k = 0; k < 6; ++k)
+    sigma[k] = 0;
+  double s[6] = {0, 0, 0, 0, 0, 0};
+  evaluate_copy(mesh, x, e, state, s);
+  if (mesh.etype[e] == ElemType::Tet4) {
     std::copy(s, s + 6, sigma);
     return;
   }
@@ -802,6 +809,13 @@ void FeSpace::element_stress(const Mesh& mesh, const double* x, int e, double si
   sigma[1] = s[1];
   sigma[2] = s[2]; // plane strain: sigma_zz = lambda tr(eps) = nu (sxx + syy); axisymmetric: hoop
   sigma[3] = s[3];
+}
+
+double FeSpace::element_energy(const Mesh& mesh, const double* x, int e, const double* state) const
+{
+  if (!mesh.active[e]) return 0.0;
+  double s[6] = {0, 0, 0, 0, 0, 0};
+  return evaluate_copy(mesh, x, e, state, s);
 }
 
 double FeSpace::point_weight(const Mesh& mesh, int e, int q) const

@@ -66,6 +66,10 @@ public:
   void element_stress(const Mesh& mesh, const double* x, int e, double sigma[6],
                       const double* state = nullptr) const;
   static double von_mises(const double s[6]);
+  // Strain energy of element e now (0 if inactive), as add_internal_forces counts it, evaluated
+  // on a copy of its state (the history is not advanced). state: as for element_stress.
+  double element_energy(const Mesh& mesh, const double* x, int e,
+                        const double* state = nullptr) const;
 
   // Bulk viscosity (materials/bulk_viscosity.h) of the active elements in [e_begin, e_end): adds
   // the forces of each element's viscous pressure q, acting in the current configuration x with
@@ -112,6 +116,8 @@ public:
   }
 
 private:
+  double evaluate_copy(const Mesh& mesh, const double* x, int e, const double* state,
+                       double s[6]) const;
   double omega2_bound(const Mesh& mesh, const double* x, int e) const;
   // The same bound from the reference block and, if not null, element e's block g_current of
   // the current configuration.
