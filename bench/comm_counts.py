@@ -1,12 +1,17 @@
 """Exact MPI communication counts per rank and step on the settling bed (stock slabs, graph
-ownership, and LAMMPS rcb where Debian's `lmp` is installed), with the PMPI counter
-(build/libfracdem_mpicount.so, LD_PRELOADed). Two runs of different lengths per method; their
-difference is the traffic of the steps in between, set-up excluded. Counts do not depend on the
-machine, so oversubscribed rank counts are as valid as any.
+ownership with the METIS and the compact `rcb` partitioner, and LAMMPS rcb where Debian's `lmp`
+is installed), with the PMPI counter (build/libfracdem_mpicount.so, LD_PRELOADed). Two runs of
+different lengths per method; their difference is the traffic of the steps in between, set-up
+excluded. Counts do not depend on the machine, so oversubscribed rank counts are as valid as any.
+Beside the counts, the balance of the same runs: B of the cost model (`cost counts`, so exact
+too) at the checks in the window, from fix balance/graph's CSV; for LAMMPS the max/avg of
+per-rank neighbour pairs at the end (what `fix balance rcb weight neigh` balances).
 
-    python3 bench/comm_counts.py [--exe build/fracdem] [--ranks 4 16] [--steps 400 1400]
+    python3 bench/comm_counts.py [--exe build/fracdem] [--ranks 4 8 16] [--steps 400 1400]
+        [--csv bench/results/comm_counts.csv] [--png bench/results/comm_counts.png]
 """
 import argparse
+import csv
 import os
 import shutil
 import sys
@@ -15,23 +20,52 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "tests", "support"))
+sys.path.insert(0, os.path.join(ROOT, "python"))
 import mpicount  # noqa: E402
 
 METHODS = {  # name -> (input, variables)
     "stock slabs": ("in.settle_fracdem", dict(thresh="1e30", cost="counts", every=200)),
     "graph a posteriori counts": ("in.settle_fracdem", dict(thresh=1.05, cost="counts",
                                                              every=200)),
+    "graph a posteriori counts rcb": ("in.settle_fracdem", dict(thresh=1.05, cost="counts",
+                                                                 every=200, partitioner="rcb")),
+    "graph a posteriori counts rcb, diffusion": ("in.settle_fracdem",
+                                                 dict(thresh=1.05, cost="counts", every=200,
+                                                      partitioner="rcb repartition refine")),
     "LAMMPS rcb neigh": ("in.settle_lammps", dict(balance="rcb_neigh", every=200, thresh=1.05)),
 }
+DEFAULT_METHODS = ["stock slabs", "graph a posteriori counts", "graph a posteriori counts rcb",
+                   "LAMMPS rcb neigh"]
+
+
+def balance_figures(wd, first_step):
+    """B of the cost model at the checks after first_step (fix balance/graph's CSV of the last
+    run): step-weighted mean and maximum; and the predicted B of the last repartition."""
+    path = os.path.join(wd, "balance.csv")
+    if not os.path.exists(path):
+        return {}
+    rows = list(csv.DictReader(open(path)))
+    window = [r for r in rows if int(r["step"]) > first_step]
+    if not window:
+        return {}
+    steps, prev, num = 0, first_step, 0.0
+    for r in window:
+        dt = int(r["step"]) - prev
+        num += dt * float(r["imbalance"])
+        steps += dt
+        prev = int(r["step"])
+    return {"model_B": num / max(steps, 1), "model_B_max": max(float(r["imbalance"])
+                                                               for r in window),
+            "repartitions": sum(int(r["repartitioned"]) for r in window)}
 
 
 def measure(exe, lib, method, np_, steps, sites):
     script, variables = METHODS[method]
     wd = tempfile.mkdtemp(prefix="comm_counts_")
     shutil.copy(os.path.join(HERE, "inputs", script), wd)
-    runs = []
+    runs, text = [], ""
     for n in steps:
-        _, ranks = mpicount.run(exe, script, np_, wd, lib, f"s{n}", dict(variables, steps=n))
+        text, ranks = mpicount.run(exe, script, np_, wd, lib, f"s{n}", dict(variables, steps=n))
         runs.append(ranks)
     diffs = mpicount.difference(runs[1], runs[0])
     window = steps[1] - steps[0]
@@ -39,42 +73,119 @@ def measure(exe, lib, method, np_, steps, sites):
         print(f"## {method}, {np_} ranks: busiest call sites, steps {steps[0]}-{steps[1]}")
         for line in mpicount.site_lines(diffs, window, sites):
             print("   ", line)
-    return mpicount.summarise(diffs, window)
+    s = mpicount.summarise(diffs, window)
+    s.update(balance_figures(wd, steps[0]))
+    if method.startswith("LAMMPS"):
+        from fracdem import balance  # noqa: E402
+
+        st = balance.run_stats(text)
+        if st.get("neighs_ave"):
+            s["neigh_B"] = st["neighs_max"] / st["neighs_ave"]
+    return s
+
+
+def plot(rows, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    methods = list(dict.fromkeys(m for m, _, _ in rows))
+    ranks = sorted({n for _, n, _ in rows})
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    width = 0.8 / max(len(methods), 1)
+    panels = [("step_partners", "forward-comm partners / rank (avg, bar = max)"),
+              ("msgs", "messages / rank / step (avg, bar = max)"),
+              ("B", "B of the cost model (mean over checks; LAMMPS: neighbour pairs)")]
+    for ax, (key, title) in zip(axes, panels):
+        for k, m in enumerate(methods):
+            xs, ys, tops = [], [], []
+            for i, n in enumerate(ranks):
+                s = next((s for mm, nn, s in rows if mm == m and nn == n), None)
+                if s is None:
+                    continue
+                if key == "step_partners":
+                    y, top = s["step_partners_avg"], s["step_partners_max"]
+                elif key == "msgs":
+                    y, top = s["msgs_avg"], s["msgs_max"]
+                else:
+                    y = s.get("model_B", s.get("neigh_B"))
+                    top = s.get("model_B_max", y)
+                    if y is None:
+                        continue
+                xs.append(i + k * width)
+                ys.append(y)
+                tops.append(top - y)
+            ax.bar(xs, ys, width, yerr=[[0] * len(tops), tops], capsize=2, label=m)
+        ax.set_xticks([i + 0.4 - width / 2 for i in range(len(ranks))])
+        ax.set_xticklabels([str(n) for n in ranks])
+        ax.set_xlabel("ranks")
+        ax.set_title(title, fontsize=9)
+        if key == "B":
+            ax.set_ylim(1.0, None)
+    axes[0].legend(fontsize=7)
+    fig.suptitle("Settling bed (5346 spheres): exact MPI counts, steps in the window")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fracdem"))
     ap.add_argument("--lib", default=None, help="default: libfracdem_mpicount.so beside --exe")
-    ap.add_argument("--ranks", type=int, nargs="+", default=[4, 16])
+    ap.add_argument("--ranks", type=int, nargs="+", default=[4, 8, 16])
     ap.add_argument("--steps", type=int, nargs=2, default=[400, 1400])
-    ap.add_argument("--methods", nargs="+", default=list(METHODS))
+    ap.add_argument("--methods", nargs="+", default=DEFAULT_METHODS, choices=list(METHODS))
     ap.add_argument("--sites", type=int, default=0, help="list the N busiest call sites")
+    ap.add_argument("--csv", help="write one row per method and rank count here")
+    ap.add_argument("--png", help="plot partners, messages and B here")
     a = ap.parse_args()
-    lib = a.lib or os.path.join(os.path.dirname(os.path.abspath(a.exe)), "libfracdem_mpicount.so")
+    exe_path = os.path.abspath(a.exe)
+    lib = a.lib or os.path.join(os.path.dirname(exe_path), "libfracdem_mpicount.so")
     lmp = shutil.which("lmp")
     rows = []
     for np_ in a.ranks:
         for method in a.methods:
-            exe = a.exe
+            exe = exe_path
             if method.startswith("LAMMPS"):
                 if not lmp:
                     print(f"note: {method} skipped: Debian `lmp` is not installed")
                     continue
                 exe = lmp
             s = measure(exe, lib, method, np_, a.steps, a.sites)
-            print(method, "|", mpicount.format_summary(s), flush=True)
+            print(method, "|", mpicount.format_summary(s), "| model B",
+                  f"{s.get('model_B', float('nan')):.4f}", flush=True)
             rows.append((method, np_, s))
     print("\n| run | ranks | messages / rank / step avg (max) | partners avg (max) | per-step "
-          "partners avg (max) | bytes / rank / step avg (max) | collectives / step | of which "
-          "project code |")
-    print("|---|---|---|---|---|---|---|---|")
+          "partners avg (max) | bytes / rank / step avg (max) | B mean (max) | collectives / "
+          "step | of which project code |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for method, np_, s in rows:
         pc = ", ".join(f"{k} {v:.3f}" for k, v in sorted(s["project_coll"].items())) or "—"
+        if "model_B" in s:
+            b = f"{s['model_B']:.3f} ({s['model_B_max']:.3f})"
+        elif "neigh_B" in s:
+            b = f"neighs {s['neigh_B']:.3f}"
+        else:
+            b = "—"
         print(f"| {method} | {np_} | {s['msgs_avg']:.2f} ({s['msgs_max']:.2f}) | "
               f"{s['partners_avg']:.2f} ({s['partners_max']}) | {s['step_partners_avg']:.2f} "
               f"({s['step_partners_max']}) | {s['bytes_avg']:.0f} "
-              f"({s['bytes_max']:.0f}) | {s['coll_max']:.3f} | {pc} |")
+              f"({s['bytes_max']:.0f}) | {b} | {s['coll_max']:.3f} | {pc} |")
+    if a.csv:
+        cols = ["method", "ranks", "msgs_avg", "msgs_max", "partners_avg", "partners_max",
+                "step_partners_avg", "step_partners_max", "bytes_avg", "bytes_max",
+                "dest_rate_max", "coll_max", "recv_wait_avg", "model_B", "model_B_max",
+                "repartitions", "neigh_B"]
+        with open(a.csv, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(cols)
+            for method, np_, s in rows:
+                w.writerow([method, np_] + [s.get(c, "") if not isinstance(s.get(c), float)
+                                            else f"{s[c]:.6g}" for c in cols[2:]])
+    if a.png and rows:
+        plot(rows, a.png)
 
 
 if __name__ == "__main__":

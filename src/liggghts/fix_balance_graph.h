@@ -28,6 +28,8 @@ public:
   void setup_pre_exchange() override;
   void pre_exchange() override;
   void setup(int) override;
+  void initial_integrate(int) override;
+  void final_integrate() override;
   void end_of_step() override;
   void pre_neighbor() override;
   void pre_force(int) override;
@@ -40,7 +42,7 @@ public:
   enum class GraphModel { APriori, APosteriori };
   enum class CostModel { Counts, Calibrated, Timed, Fitted };
   enum class Strategy { Auto, Refine, Scratch };
-  enum class Partitioner { Metis, Scotch };
+  enum class Partitioner { Metis, Scotch, Rcb };
 
 private:
   // What one check measured on this rank, per local particle and in total.
@@ -76,6 +78,9 @@ private:
   // Thread CPU time of this rank's particle work (neighbour build, pair, and the post-force fixes
   // defined before this one: walls, FE contact) since the last check; the measured work.
   double cpu_work_ = 0, cpu_start_ = 0;
+  // Integration: CPU clock at this fix's end_of_step (until the next initial_integrate) and at the
+  // end of its post_force (until its final_integrate); negative when that bracket is not open.
+  double cpu_step_end_ = -1, cpu_after_force_ = -1;
   bool cpu_from_neighbor_ = false;
   bool start_check_ = false;    // the next check is the one at the first step of the first run
   bigint last_check_step_ = -1; // step of the last check (cpu_work_ counts from there)
@@ -108,9 +113,11 @@ private:
   };
   GatheredGraph gather_graph(const std::vector<std::int64_t>& verts,
                              const std::vector<std::int64_t>& edges) const;
-  // Partition of a gathered graph on rank 0: refine from old_owner or METIS from scratch.
+  // Partition of a gathered graph on rank 0: refine from old_owner, or from scratch by METIS or
+  // (partitioner rcb) by RCB of the vertex coordinates xyz (cell centres; null with cells 0).
   std::vector<int> partition_on_root(const fracdem::balance::Graph& g,
-                                     const std::vector<int>& old_owner, double stats[2]) const;
+                                     const std::vector<int>& old_owner, double stats[2],
+                                     const std::vector<double>* xyz = nullptr) const;
   void write_row(bool repartitioned, double partition_seconds);
 };
 
