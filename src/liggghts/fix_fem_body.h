@@ -14,6 +14,7 @@
 #include "contact/particle_facet.h"
 #include "contact/surface_contact.h"
 #include "fem/body.h"
+#include "fem/body_spec.h"
 #include "fem/erosion.h"
 #include "fracture/nodal_fracture.h"
 
@@ -74,32 +75,8 @@ public:
   static constexpr int kSlotDoubles = fracdem::kHistorySlotDoubles;
 
 private:
-  struct NodeVelocitySpec {
-    std::string set;
-    double v[3];
-    double ramp = 0; // prescribed_velocity: linear ramp time
-    int group = -1;  // reaction account
-  };
-  struct FixedSpec {
-    std::string set;
-    int mask; // held components, bit d = component d
-    int group;
-  };
-
   // ---- set-up helpers ----
   void parse_arguments(int narg, char** arg);
-  void parse_motion(int narg, char** arg, int& iarg);
-  using MaterialParser = std::string (*)(const std::vector<std::string>&, fracdem::Material&,
-                                         std::size_t*);
-  void parse_material_words(int narg, char** arg, int& iarg, MaterialParser parse);
-  double number(const char* keyword, const char* word);
-  int whole_number(const char* keyword, const char* word);
-  static constexpr int kMaxHistorySlots = 64;
-  void parse_fracture(int narg, char** arg, int& iarg);
-  void parse_bulk_viscosity(int narg, char** arg, int& iarg);
-  void parse_erosion(int narg, char** arg, int& iarg);
-  void check_arguments();
-  void check_erosion();
   void load_mesh();
   void log_body();
   void log_memory();
@@ -111,7 +88,6 @@ private:
   void check_restart_records();
   void check_stored_placement(const double* head, int n);
   void check_crack_band();
-  std::vector<int> node_set(const std::string& name, const char* keyword) const;
   void read_contact_properties();
   void check_time_step();
 
@@ -122,7 +98,6 @@ private:
   void write_energy_row();
   void fracture();
   void log_splits(const std::vector<fracdem::SplitEvent>& events);
-  int split_nodes() const;
   void log_fragments();
   int last_fragments_ = 1;
   void erode_inverted(int e);
@@ -130,41 +105,15 @@ private:
   double forces_after_erosion(double energy, int& first_inverted);
   void after_erosion(const int* counts, const std::vector<int>& batch);
   void log_erosion(const int* counts, const std::vector<int>& batch);
-  fracdem::ErosionCriteria erosion_; // erosion ...; erosion_mass (remove_mass)
-  bool have_erosion_mass_ = false;
   bool warned_dt_after_erosion_ = false;
   // The body can lose elements (energy-file columns eroded_*): erosion or nodal fracture.
-  bool can_erode() const { return erosion_.on() || fracture_every_ > 0; }
+  bool can_erode() const { return spec_.erosion.on() || spec_.fracture_every > 0; }
   int erode_collapsed(const std::vector<double>& failure);
   fracdem::FailureMap failure_map_;
-  bool erode_cracked_ = false; // fracture nodal erode_cracked yes: failed elements leave
-  int fragments() const;
 
-  // ---- arguments ----
-  std::string mesh_file_;
-  int surface_type_ = -1;
-  fracdem::Material material_;
-  bool have_density_ = false, have_youngs_ = false, have_poisson_ = false;
-  bool rigid_ = false;
-  bool have_plane_ = false;
-  fracdem::BulkViscosity viscosity_;
-  int viscosity_mode_ = -1; // -1: default (on for plastic materials / EOS), 0: off, 1: on
-  fracdem::RigidMotion motion_;
-  std::vector<FixedSpec> fixed_sets_;
-  std::vector<std::string> reaction_groups_; // fixed / prescribed_velocity groups, in order
-  int reaction_group(const std::string& set);
-  std::vector<NodeVelocitySpec> initial_velocity_, prescribed_velocity_;
-  std::vector<fracdem::MeshTransform> transforms_;
-  fracdem::NormalModel normal_model_ = fracdem::NormalModel::Hertz;
-  bool tangential_history_ = true;
-  int compliance_combined_ = -1; // -1: default (combined for rigid, particle-only for deformable)
-  double buffer_ = -1;           // search buffer; -1: host neighbour skin
-  bool dt_check_error_ = true;
-  bool apply_gravity_ = true;
-  int fracture_every_ = 0;          // 0: no fracture
+  // ---- arguments (fracdem::parse_body_spec, check_body_spec) ----
+  fracdem::BodySpec spec_;
   bool split_element_work_ = false; // element work shared among ranks (else replicated)
-  std::string energy_file_;
-  int energy_every_ = 0;
   FILE* energy_fp_ = nullptr;
   bigint last_energy_step_ = -1;
 
@@ -185,8 +134,6 @@ private:
   void find_contact_partners();
   void partner_changed(FixFemBody* other);
   int body_contacts();
-  int contact_bodies_ = -1; // -1: default (no)
-  double contact_penalty_ = 0.1;
   void rebuild_surfaces();
   double gravity_[3] = {0, 0, 0};
   int ncontacts_ = 0;

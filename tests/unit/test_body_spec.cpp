@@ -189,6 +189,70 @@ TEST(BodySpec, FractureAndBulkViscosity)
   EXPECT_EQ(parse("").viscosity_mode, -1);
 }
 
+TEST(BodySpec, Erosion)
+{
+  BodySpec s = parse("");
+  EXPECT_FALSE(s.erosion.on());
+  EXPECT_FALSE(s.erosion.remove_mass);
+  EXPECT_FALSE(s.have_erosion_mass);
+  // Any of the criteria, in any order, on one keyword; the next keyword ends them.
+  s = parse("erosion min_dt 1e-7 plastic_strain 0.5 damage 0.9 type 2");
+  EXPECT_EQ(s.erosion.plastic_strain, 0.5);
+  EXPECT_EQ(s.erosion.damage, 0.9);
+  EXPECT_EQ(s.erosion.min_dt, 1e-7);
+  EXPECT_EQ(s.surface_type, 2);
+  s = parse("erosion damage 1 erosion_mass remove");
+  EXPECT_TRUE(s.erosion.on());
+  EXPECT_TRUE(s.erosion.remove_mass);
+  EXPECT_TRUE(s.have_erosion_mass);
+  s = parse("erosion_mass keep");
+  EXPECT_FALSE(s.erosion.remove_mass);
+  EXPECT_TRUE(s.have_erosion_mass);
+  const std::string expects = "keyword 'erosion' expects one or more of 'plastic_strain EPS' "
+                              "(EPS > 0), 'damage D' (0 < D <= 1), 'min_dt DT' (DT > 0)";
+  const SpecCase cases[] = {
+      {"erosion", expects},
+      {"erosion damage", expects},
+      {"erosion type 1", expects},
+      {"erosion damage -1", expects},
+      {"erosion damage x", "keyword 'erosion damage' expects a finite number, got 'x'"},
+      {"erosion min_dt 1e999", "keyword 'erosion min_dt' expects a finite number, got '1e999'"},
+      {"erosion_mass", "keyword 'erosion_mass' expects keep or remove"},
+      {"erosion_mass all", "keyword 'erosion_mass' expects keep or remove"},
+  };
+  for (const SpecCase& c : cases)
+    expect_error(c);
+}
+
+TEST(BodySpec, CheckErosion)
+{
+  const std::string rankine = std::string(kBody) + " material rankine strength 3e6 "
+                                                   "fracture_energy 100";
+  const std::string j2 = std::string(kBody) + " material j2 yield 3e8 hardening 1e9";
+  EXPECT_EQ(check_error(rankine + " erosion damage 1 erosion_mass remove"), "");
+  EXPECT_EQ(check_error(j2 + " erosion plastic_strain 0.5 min_dt 1e-8"), "");
+  EXPECT_EQ(check_error(std::string(kBody) + " erosion min_dt 1e-8"), "");
+  EXPECT_EQ(check_error(rankine + " erosion damage 1.5"),
+            "keyword 'erosion damage': D must lie in (0, 1] (1: no tension left)");
+  EXPECT_EQ(check_error(std::string(kBody) + " erosion plastic_strain 0.5")
+                .rfind("keyword 'erosion plastic_strain': this body's material never yields", 0),
+            0u);
+  EXPECT_EQ(check_error(j2 + " erosion damage 0.5")
+                .rfind("keyword 'erosion damage': this body's material does not damage", 0),
+            0u);
+  EXPECT_EQ(check_error("type 1 rigid yes erosion min_dt 1e-8"),
+            "keyword 'erosion': a rigid body neither deforms nor loses elements");
+  // A criterion off (0) beside one that is on is accepted; a negative one is refused.
+  EXPECT_EQ(check_error(std::string(kBody) + " erosion min_dt 1e-8 damage 0"), "");
+  EXPECT_EQ(check_error(std::string(kBody) + " erosion min_dt 1e-8 damage -1"),
+            "keyword 'erosion': expects one or more of 'plastic_strain EPS' (EPS > 0), 'damage D' "
+            "(0 < D <= 1), 'min_dt DT' (DT > 0)");
+  const std::string mass_alone = "keyword 'erosion_mass' applies to bodies that erode elements "
+                                 "('erosion ...' or 'fracture nodal')";
+  EXPECT_EQ(check_error(std::string(kBody) + " erosion_mass remove"), mass_alone);
+  EXPECT_EQ(check_error(rankine + " fracture nodal erosion_mass remove"), "");
+}
+
 TEST(BodySpec, ContactAndRunKeywords)
 {
   const BodySpec s =
@@ -320,8 +384,7 @@ TEST(BodySpec, UnknownKeywordAndHeader)
 {
   EXPECT_EQ(error_of("colour red"), "unknown keyword 'colour'");
   EXPECT_EQ(error_of("fixed base w"), "unknown keyword 'w'"); // not a component
-  // The erosion keywords are not in the table yet (see BodySpec).
-  EXPECT_EQ(error_of("erosion damage 1"), "unknown keyword 'erosion'");
+  EXPECT_EQ(error_of("erosions damage 1"), "unknown keyword 'erosions'");
   const std::string header = "expected 'fix ID group fem/body file MESH.msh keyword value ...'";
   for (const char* line : {"", "file", "mesh m.msh"}) {
     try {
@@ -336,7 +399,7 @@ TEST(BodySpec, UnknownKeywordAndHeader)
 TEST(BodySpec, KeywordTableListsEveryKeywordOnce)
 {
   const std::vector<std::string> k = body_keywords();
-  EXPECT_EQ(k.size(), 29u);
+  EXPECT_EQ(k.size(), 31u);
   for (std::size_t i = 0; i < k.size(); ++i)
     for (std::size_t j = i + 1; j < k.size(); ++j)
       EXPECT_NE(k[i], k[j]);
@@ -366,6 +429,9 @@ TEST(BodySpec, HostRestrictions)
   EXPECT_FALSE(host.takes("rigid"));
   // Keywords the table gains later stay refused by a host that lists its own.
   EXPECT_FALSE(host.takes("bulk_viscosity"));
+  EXPECT_FALSE(host.takes("erosion"));
+  EXPECT_EQ(error_of("erosion damage 1", host),
+            "keyword 'erosion' is not yet supported under TESTHOST (supported: " + list + ")");
 }
 
 TEST(BodySpec, CheckDeformable)

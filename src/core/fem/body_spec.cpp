@@ -308,7 +308,27 @@ void parse_bulk_viscosity(SpecReader& r, BodySpec& s)
   r.take(3);
 }
 
-// ---- erosion: parse_erosion / parse_erosion_mass go here (see BodySpec) ----
+// erosion plastic_strain EPS | damage D | min_dt DT (any of them, in any order, on one keyword):
+// the values are checked against the material by check_body_spec (erosion_setup_error).
+void parse_erosion(SpecReader& r, BodySpec& s)
+{
+  const std::map<std::string, double*> criteria = {{"plastic_strain", &s.erosion.plastic_strain},
+                                                   {"damage", &s.erosion.damage},
+                                                   {"min_dt", &s.erosion.min_dt}};
+  int used = 0;
+  for (r.take(1); r.has(1) && criteria.count(r.keyword()); r.take(2), ++used)
+    *criteria.at(r.keyword()) = spec_number("erosion " + r.keyword(), r.word(1));
+  if (used == 0 || !s.erosion.on())
+    fail("keyword 'erosion' expects one or more of 'plastic_strain EPS' (EPS > 0), 'damage D' "
+         "(0 < D <= 1), 'min_dt DT' (DT > 0)");
+}
+
+// erosion_mass keep|remove: whether an eroded element's mass stays on its nodes.
+void parse_erosion_mass(SpecReader& r, BodySpec& s)
+{
+  s.erosion.remove_mass = !r.either("keep", "remove");
+  s.have_erosion_mass = true;
+}
 
 void parse_contact_model(SpecReader& r, BodySpec& s)
 {
@@ -401,7 +421,8 @@ const std::vector<Keyword> kKeywords = {
     {"eos", parse_eos},
     {"fracture", parse_fracture},
     {"bulk_viscosity", parse_bulk_viscosity},
-    // ---- erosion: {"erosion", parse_erosion}, {"erosion_mass", parse_erosion_mass} ----
+    {"erosion", parse_erosion},
+    {"erosion_mass", parse_erosion_mass},
     {"contact_model", parse_contact_model},
     {"tangential", parse_tangential},
     {"compliance", parse_compliance},
@@ -495,6 +516,21 @@ void check_material(const BodySpec& s, int dimension)
          "'plane')");
 }
 
+// Criteria out of range or that could never trigger are refused by the core, naming 'erosion';
+// erosion_mass needs a body that erodes elements.
+void check_erosion(const BodySpec& s)
+{
+  const ErosionCriteria& c = s.erosion;
+  const bool asked = c.plastic_strain != 0 || c.damage != 0 || c.min_dt != 0;
+  if (asked) {
+    const std::string err = erosion_setup_error(c, s.material, s.rigid);
+    if (!err.empty()) fail(keyword_error(err));
+  }
+  if (s.have_erosion_mass && !asked && s.fracture_every == 0)
+    fail("keyword 'erosion_mass' applies to bodies that erode elements ('erosion ...' or "
+         "'fracture nodal')");
+}
+
 // Defaults that depend on other settings, and the keywords they make meaningless.
 void resolve_defaults(BodySpec& s)
 {
@@ -511,7 +547,7 @@ void resolve_defaults(BodySpec& s)
   // into fully cracked elements (docs/fracture.md, restrictions).
   if (s.contact_bodies < 0) s.contact_bodies = 0;
   if (s.contact_bodies && s.rigid) fail("keyword 'contact_bodies yes' needs a deformable body");
-  // ---- erosion: the erosion check (erosion_setup_error, erosion_mass) goes here ----
+  check_erosion(s);
 }
 
 } // namespace

@@ -9,6 +9,7 @@
 
 #include "contact/granular_law.h"
 #include "fem/body_motion.h"
+#include "fem/erosion.h"
 #include "materials/bulk_viscosity.h"
 #include "materials/material.h"
 
@@ -63,11 +64,9 @@ struct BodySpec {
   int fracture_every = 0;     // fracture nodal [every N]; 0: no fracture
   bool erode_cracked = false; // fracture nodal erode_cracked yes
   BulkViscosity viscosity;
-  int viscosity_mode = -1; // -1: default (on for plastic materials / EOS), 0: off, 1: on
-  // ---- erosion: `erosion ...` and `erosion_mass keep|remove` are being added to the LIGGGHTS
-  // adapter; their settings (fracdem::ErosionCriteria of fem/erosion.h, have_erosion_mass) go
-  // here, their handlers into the keyword table (body_spec.cpp, "erosion"), their check into
-  // check_body_spec.
+  int viscosity_mode = -1;        // -1: default (on for plastic materials / EOS), 0: off, 1: on
+  ErosionCriteria erosion;        // erosion ...; erosion_mass keep|remove (remove_mass)
+  bool have_erosion_mass = false; // erosion_mass given
   // ---- particle contact (LIGGGHTS's words; a host may take its own) ----
   NormalModel normal_model = NormalModel::Hertz; // contact_model
   bool tangential_history = true;                // tangential history|no_history
