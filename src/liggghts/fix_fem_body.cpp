@@ -900,7 +900,12 @@ namespace
 // record starts with its version, 1 or 2), the number of doubles that follow in the head, then
 // rigid (0 / 1), the number of placement transforms and 5 doubles per transform (kind, a[4]).
 // Records written without the head start with the body record and are read as before.
+// After the transforms the head may hold sections (tag, number of doubles, doubles); a reader
+// skips the head by its length, so one that knows no sections reads the placement as before.
+// kSelfContactSection: the contact state of the body's pieces (SurfaceContact::pack_state),
+// written only where there is some, so a body without piece contact writes the same bytes.
 constexpr double kRecordHead = -1.0;
+constexpr double kSelfContactSection = 1.0;
 
 // The placement keywords as the input writes them.
 std::string placement_text(bool rigid, const std::vector<fracdem::MeshTransform>& transforms)
@@ -944,6 +949,13 @@ void FixFemBody::write_restart(FILE* fp)
     buf.push_back(static_cast<double>(t.kind));
     buf.insert(buf.end(), t.a, t.a + 4);
   }
+  std::vector<double> self_state;
+  if (spec_.contact_bodies) self_contact_.pack_state(self_state);
+  if (!self_state.empty()) {
+    buf.push_back(kSelfContactSection);
+    buf.push_back(static_cast<double>(self_state.size()));
+    buf.insert(buf.end(), self_state.begin(), self_state.end());
+  }
   buf[1] = static_cast<double>(buf.size() - 2);
   std::vector<double> body;
   body_.pack_state(body);
@@ -981,9 +993,22 @@ void FixFemBody::check_stored_placement(const double* head, int n)
 void FixFemBody::restart(char* raw)
 {
   const double* record = reinterpret_cast<const double*>(raw);
+  const double* self_state = nullptr;
+  size_t self_state_size = 0;
   if (record[0] == kRecordHead) {
-    check_stored_placement(record + 2, static_cast<int>(record[1]));
-    record += 2 + static_cast<int>(record[1]);
+    const int n = static_cast<int>(record[1]);
+    check_stored_placement(record + 2, n);
+    for (int k = 2 + 5 * static_cast<int>(record[3]); k < n;) {
+      const double tag = record[2 + k];
+      const int size = k + 1 < n ? static_cast<int>(record[3 + k]) : -1;
+      if (size < 0 || k + 2 + size > n) error->all(FLERR, "fix fem/body: corrupt restart record");
+      if (tag == kSelfContactSection) {
+        self_state = record + 4 + k;
+        self_state_size = static_cast<size_t>(size);
+      }
+      k += 2 + size;
+    }
+    record += 2 + n;
   }
   try {
     body_.unpack_state(record);
@@ -994,6 +1019,15 @@ void FixFemBody::restart(char* raw)
     error->all(FLERR, msg.c_str());
   }
   rebuild_surfaces();
+  // The pieces' contacts continue where they were (without: a resting contact would restart
+  // as an unexplained penetration and lose its force).
+  if (spec_.contact_bodies && self_state) {
+    try {
+      self_contact_.unpack_state(self_state, self_state_size);
+    } catch (const std::exception& e) {
+      error->all(FLERR, (std::string(kStyle) + " " + id + ": " + e.what()).c_str());
+    }
+  }
   restarted_state_ = true;
 }
 

@@ -205,3 +205,69 @@ TEST(SurfaceContact, PenetrationTheStepCannotExplainReleasesNoEnergy)
   EXPECT_EQ(c5, 6);
   EXPECT_NEAR(f5, 6 * k * 0.5 * delta, 1e-6 * k * delta);
 }
+
+TEST(SurfaceContact, PackedStateContinuesContactsAsTheUninterruptedObject)
+{
+  // B moves into A over a few steps (penetration the steps explain), then rests overlapping:
+  // the uninterrupted contact keeps pushing. A fresh object (a restart without the state) takes
+  // the resting overlap for an unexplained one and pushes nothing; one given the packed state
+  // gives the uninterrupted forces, bit for bit.
+  const double eps = 0.001, dt = 1e-6;
+  Mesh m = two_squares(2, 1.0);
+  const int nn = m.num_nodes();
+  std::vector<double> v(3 * nn, 0.0), mass(nn, 1.0), f(3 * nn, 0.0);
+  ContactSurface surface;
+  surface.build(m, boundary_facets(m));
+  SurfaceContact sc;
+  sc.configure(options(0.3));
+  auto evaluate = [&](SurfaceContact& c, std::vector<double>& force) {
+    force.assign(3 * nn, 0.0);
+    const ContactBodyState st{m.X.data(), v.data(), mass.data(), force.data()};
+    return c.evaluate(surface, st, surface, st, true, dt);
+  };
+  for (int s = 0; s < 3; ++s) {
+    for (int n = nn / 2; n < nn; ++n) {
+      m.X[3 * n] -= eps;
+      v[3 * n] = -eps / dt;
+    }
+    evaluate(sc, f);
+  }
+  for (int n = nn / 2; n < nn; ++n)
+    v[3 * n] = 0.0;
+  EXPECT_EQ(evaluate(sc, f), 6); // resting, still pushed
+  std::vector<double> state;
+  sc.pack_state(state);
+  EXPECT_EQ(state.size(), 3u * 6);
+
+  SurfaceContact restored, fresh;
+  restored.configure(options(0.3));
+  fresh.configure(options(0.3));
+  restored.unpack_state(state.data(), state.size());
+  std::vector<double> f_sc, f_restored, f_fresh;
+  EXPECT_EQ(evaluate(sc, f_sc), 6);
+  EXPECT_EQ(evaluate(restored, f_restored), 6);
+  EXPECT_EQ(evaluate(fresh, f_fresh), 6);
+  double push = 0;
+  for (int n = nn / 2; n < nn; ++n)
+    push += f_sc[3 * n];
+  EXPECT_GT(push, 0.5 * 6 * 1e6 * 0.1 * 3 * eps);
+  EXPECT_EQ(f_restored, f_sc); // bitwise
+  EXPECT_NE(f_fresh, f_sc);
+  for (double x : f_fresh)
+    EXPECT_EQ(x, 0.0);
+  // A second step continues as well; the packed state of both is the same.
+  EXPECT_EQ(evaluate(sc, f_sc), 6);
+  EXPECT_EQ(evaluate(restored, f_restored), 6);
+  EXPECT_EQ(f_restored, f_sc);
+  std::vector<double> s1, s2;
+  sc.pack_state(s1);
+  restored.pack_state(s2);
+  EXPECT_EQ(s1, s2);
+  // No state: a fresh object; a corrupt record is refused.
+  SurfaceContact empty;
+  empty.unpack_state(nullptr, 0);
+  EXPECT_EQ(evaluate(empty, f), 6);
+  for (double x : f)
+    EXPECT_EQ(x, 0.0);
+  EXPECT_THROW(empty.unpack_state(state.data(), 4), std::runtime_error);
+}

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace fracdem
 {
@@ -263,6 +264,41 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
   }
   ++eval_;
   return contacts;
+}
+
+void SurfaceContact::pack_state(std::vector<double>& out) const
+{
+  if (eval_ == 0) return;
+  for (size_t node = 0; node < last_eval_.size(); ++node)
+    if (last_eval_[node] == eval_ - 1) {
+      out.push_back(static_cast<double>(node));
+      out.push_back(last_depth_[node]);
+      out.push_back(offset_[node]);
+    }
+}
+
+void SurfaceContact::unpack_state(const double* in, size_t n)
+{
+  if (n % 3 != 0) throw std::runtime_error("surface contact state: corrupt record");
+  last_eval_.clear();
+  last_depth_.clear();
+  offset_.clear();
+  // The stored contacts belong to evaluation 0, so evaluation 1 (the next) continues them.
+  eval_ = 1;
+  for (size_t k = 0; k < n; k += 3) {
+    const double x = in[k];
+    if (!(x >= 0 && x < 2147483647.0) || x != std::floor(x))
+      throw std::runtime_error("surface contact state: corrupt record");
+    const size_t node = static_cast<size_t>(x);
+    if (node >= last_eval_.size()) {
+      last_eval_.resize(node + 1, -1);
+      last_depth_.resize(node + 1, 0.0);
+      offset_.resize(node + 1, 0.0);
+    }
+    last_eval_[node] = 0;
+    last_depth_[node] = in[k + 1];
+    offset_[node] = in[k + 2];
+  }
 }
 
 } // namespace fracdem

@@ -72,6 +72,12 @@ public:
   // neighbourhood excluded). Returns the number of contacts.
   int evaluate(const ContactSurface& nodes_of, const ContactBodyState& a,
                const ContactSurface& facets_of, const ContactBodyState& b, bool self, double dt);
+  // The per-node contact state (for restart): appends, for every node in contact at the last
+  // evaluation, (node, penetration, offset). After unpack_state of those doubles (a multiple of
+  // 3; none: a fresh object) the next evaluate() continues these contacts exactly as this object
+  // would; other state (options, search) is not part of it.
+  void pack_state(std::vector<double>& out) const;
+  void unpack_state(const double* in, size_t n);
 
 private:
   struct Touch {
