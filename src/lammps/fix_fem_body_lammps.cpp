@@ -621,63 +621,22 @@ void FixFemBodyLammps::warn_unresolved_contact(const fracdem::ParticleFacetResul
    the body in the simulation box (as in the LIGGGHTS adapter)
 ------------------------------------------------------------------------- */
 
-// Particles live inside the box. Beyond a fixed face they are lost, so the body's surface must
-// lie inside the fixed faces. Across a periodic boundary the particles' images meet the body, so
-// it may cross the boundary, but not be longer than the period nor lie more than a period
-// outside. A shrink-wrapped face follows the particles. Only surface nodes count. Slack: the
-// contact search buffer.
+// The body must stay where particles can reach it (fracdem::body_box_violation says why).
 std::string FixFemBodyLammps::box_violation() const
 {
-  const std::vector<fracdem::Facet>& facets = contact_.facets();
-  if (facets.empty()) return "";
-  const std::vector<double>& x = body_.positions();
-  double lo[3], hi[3];
-  for (int d = 0; d < 3; ++d) {
-    lo[d] = std::numeric_limits<double>::infinity();
-    hi[d] = -lo[d];
-  }
-  for (const fracdem::Facet& fc : facets)
-    for (int k = 0; k < fc.nn; ++k)
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = std::min(lo[d], x[3 * fc.n[k] + d]);
-        hi[d] = std::max(hi[d], x[3 * fc.n[k] + d]);
-      }
+  fracdem::HostBox box;
   const double* blo = domain->triclinic ? domain->boxlo_bound : domain->boxlo;
   const double* bhi = domain->triclinic ? domain->boxhi_bound : domain->boxhi;
-  const double slack = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
-  const int dim = domain->dimension; // 2D: z is periodic by rule and the body lies in z = 0
-  for (int d = 0; d < dim; ++d) {
-    const char axis = "xyz"[d];
-    std::string why;
-    if (domain->periodicity[d]) {
-      const double period = bhi[d] - blo[d];
-      if (hi[d] - lo[d] > period + slack)
-        why = fmt::format(" is longer than its period in the periodic dimension {0}; it would "
-                          "overlap its own periodic image: shorten it or enlarge the box in {0}",
-                          axis);
-      else if (lo[d] < blo[d] - period - slack || hi[d] > bhi[d] + period + slack)
-        why = fmt::format(" lies more than a period outside it in the periodic dimension {}, "
-                          "beyond the reach of the particles' images: move it into the box",
-                          axis);
-    } else {
-      for (int side = 0; side < 2 && why.empty(); ++side) {
-        const bool out = side == 0 ? lo[d] < blo[d] - slack : hi[d] > bhi[d] + slack;
-        if (out && domain->boundary[d][side] == 1) // 2, 3: shrink-wrapped
-          why = fmt::format(" reaches beyond its fixed {}-{} face; particles are lost beyond a "
-                            "fixed face, so they cannot hit that part: keep the body inside or "
-                            "enlarge the box",
-                            axis, side ? "high" : "low");
-      }
-    }
-    if (why.empty()) continue;
-    std::string extent = "the body (", box = " in the box (";
-    for (int e = 0; e < dim; ++e) {
-      extent += fmt::format("{}{} {:g} to {:g}", e ? ", " : "", "xyz"[e], lo[e], hi[e]);
-      box += fmt::format("{}{} {:g} to {:g}", e ? ", " : "", "xyz"[e], blo[e], bhi[e]);
-    }
-    return extent + ")" + box + ")" + why;
+  for (int d = 0; d < 3; ++d) {
+    box.lo[d] = blo[d];
+    box.hi[d] = bhi[d];
+    box.periodic[d] = domain->periodicity[d];
+    for (int side = 0; side < 2; ++side)
+      box.fixed[d][side] = domain->boundary[d][side] == 1; // 2, 3: shrink-wrapped
   }
-  return "";
+  box.dimension = domain->dimension;
+  box.slack = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
+  return fracdem::body_box_violation(contact_.facets(), body_.positions().data(), box);
 }
 
 // A body placed outside is an input mistake: refused. A deformable body that gets out by its own

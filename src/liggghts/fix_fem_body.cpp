@@ -155,64 +155,22 @@ void FixFemBody::check_crack_band()
    the body in the simulation box
 ------------------------------------------------------------------------- */
 
-// Particles live inside the box. Beyond a fixed face they are lost, so the body's surface must
-// lie inside the fixed faces. Across a periodic boundary the particles' images (one period away)
-// meet the body, so it may cross the boundary, but not be longer than the period (it would
-// overlap its own image) nor lie more than a period outside. A shrink-wrapped face follows the
-// particles to wherever the body is. Only surface nodes count: nothing else can be hit (the free
-// nodes of eroded elements may fly anywhere). Slack: the contact search buffer.
+// The body must stay where particles can reach it (fracdem::body_box_violation says why).
 std::string FixFemBody::box_violation() const
 {
-  const std::vector<fracdem::Facet>& facets = contact_.facets();
-  if (facets.empty()) return "";
-  const std::vector<double>& x = body_.positions();
-  double lo[3], hi[3];
-  for (int d = 0; d < 3; ++d) {
-    lo[d] = std::numeric_limits<double>::infinity();
-    hi[d] = -lo[d];
-  }
-  for (const fracdem::Facet& fc : facets)
-    for (int k = 0; k < fc.nn; ++k)
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = std::min(lo[d], x[3 * fc.n[k] + d]);
-        hi[d] = std::max(hi[d], x[3 * fc.n[k] + d]);
-      }
+  fracdem::HostBox box;
   const double* blo = domain->triclinic ? domain->boxlo_bound : domain->boxlo;
   const double* bhi = domain->triclinic ? domain->boxhi_bound : domain->boxhi;
-  const double slack = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
-  const int dim = domain->dimension; // 2D: z is periodic by rule and the body lies in z = 0
-  for (int d = 0; d < dim; ++d) {
-    const std::string axis(1, "xyz"[d]);
-    std::string why;
-    if (domain->periodicity[d]) {
-      const double period = bhi[d] - blo[d];
-      if (hi[d] - lo[d] > period + slack)
-        why = " is longer than its period in the periodic dimension " + axis +
-              "; it would overlap its own periodic image: shorten it or enlarge the box in " + axis;
-      else if (lo[d] < blo[d] - period - slack || hi[d] > bhi[d] + period + slack)
-        why = " lies more than a period outside it in the periodic dimension " + axis +
-              ", beyond the reach of the particles' images: move it into the box";
-    } else {
-      for (int side = 0; side < 2 && why.empty(); ++side) {
-        const bool out = side == 0 ? lo[d] < blo[d] - slack : hi[d] > bhi[d] + slack;
-        if (out && domain->boundary[d][side] == 1) // 2, 3: shrink-wrapped
-          why = " reaches beyond its fixed " + axis + (side ? "-high" : "-low") +
-                " face; particles are lost beyond a fixed face, so they cannot hit "
-                "that part: keep the body inside or enlarge the box";
-      }
-    }
-    if (why.empty()) continue;
-    std::string extent = "the body (", box = " in the box (";
-    for (int e = 0; e < dim; ++e) {
-      char r[96];
-      snprintf(r, sizeof r, "%s%c %g to %g", e ? ", " : "", "xyz"[e], lo[e], hi[e]);
-      extent += r;
-      snprintf(r, sizeof r, "%s%c %g to %g", e ? ", " : "", "xyz"[e], blo[e], bhi[e]);
-      box += r;
-    }
-    return extent + ")" + box + ")" + why;
+  for (int d = 0; d < 3; ++d) {
+    box.lo[d] = blo[d];
+    box.hi[d] = bhi[d];
+    box.periodic[d] = domain->periodicity[d];
+    for (int side = 0; side < 2; ++side)
+      box.fixed[d][side] = domain->boundary[d][side] == 1; // 2, 3: shrink-wrapped
   }
-  return "";
+  box.dimension = domain->dimension;
+  box.slack = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
+  return fracdem::body_box_violation(contact_.facets(), body_.positions().data(), box);
 }
 
 // A body placed outside, or a rigid body outside (carried there by its prescribed motion, or

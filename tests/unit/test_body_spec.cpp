@@ -605,3 +605,41 @@ TEST(BodySetupText, TimeStep)
             "host timestep 1e-06 exceeds the stable FE time step 2.34568e-07 of mesh 'm.msh'; "
             "reduce 'timestep' or coarsen the mesh (keyword 'dt_check warn' runs anyway)");
 }
+
+TEST(BodySetupText, BodyInTheBox)
+{
+  // A 1 x 1 square at the origin (2D) in a box 0..2 x 0..2: inside. Moved 0.5 below a fixed
+  // y-low face it is refused naming the face; a shrink-wrapped face lets it be; across a periodic
+  // x boundary it may cross, but not when longer than the period or a period away.
+  const Mesh m = make_rect_mesh(2, 2, 1.0, 1.0, {0, 0}, ElemType::Tri3);
+  const std::vector<Facet> facets = boundary_facets(m);
+  HostBox box;
+  box.dimension = 2;
+  for (int d = 0; d < 3; ++d) {
+    box.hi[d] = 2;
+    box.fixed[d][0] = box.fixed[d][1] = true;
+  }
+  std::vector<double> x = m.X;
+  EXPECT_EQ(body_box_violation(facets, x.data(), box), "");
+  for (int n = 0; n < m.num_nodes(); ++n)
+    x[3 * n + 1] -= 0.5;
+  const std::string out = body_box_violation(facets, x.data(), box);
+  EXPECT_NE(out.find("reaches beyond its fixed y-low face"), std::string::npos) << out;
+  EXPECT_EQ(out.find("the body (x 0 to 1, y -0.5 to 0.5) in the box (x 0 to 2, y 0 to 2)"), 0u)
+      << out;
+  box.slack = 0.5; // within the search buffer
+  EXPECT_EQ(body_box_violation(facets, x.data(), box), "");
+  box.slack = 0;
+  box.fixed[1][0] = false; // shrink-wrapped
+  EXPECT_EQ(body_box_violation(facets, x.data(), box), "");
+  box.periodic[0] = true;
+  box.hi[0] = 0.8; // period shorter than the body
+  EXPECT_NE(body_box_violation(facets, x.data(), box).find("longer than its period"),
+            std::string::npos);
+  box.hi[0] = 2;
+  for (int n = 0; n < m.num_nodes(); ++n)
+    x[3 * n] += 4.5; // 2.5 beyond the high face: more than a period (2) outside
+  EXPECT_NE(body_box_violation(facets, x.data(), box).find("more than a period outside"),
+            std::string::npos);
+  EXPECT_EQ(body_box_violation({}, x.data(), box), ""); // no surface, nothing to hit
+}

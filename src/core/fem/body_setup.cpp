@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 
 #include "fem/node_split.h"
 #include "io/gmsh_reader.h"
@@ -190,6 +191,64 @@ bool body_vector_entry(const Body& body, int i, int ngroups, double& value)
   const std::size_t k = static_cast<std::size_t>(i - kVecSize);
   value = k < r.size() ? r[k] : 0.0;
   return true;
+}
+
+namespace
+{
+// Why the body's extent lo..hi leaves the box in dimension d ("" if it does not).
+std::string box_reason(const double lo[3], const double hi[3], const HostBox& box, int d)
+{
+  const std::string axis(1, "xyz"[d]);
+  if (box.periodic[d]) {
+    const double period = box.hi[d] - box.lo[d];
+    if (hi[d] - lo[d] > period + box.slack)
+      return " is longer than its period in the periodic dimension " + axis +
+             "; it would overlap its own periodic image: shorten it or enlarge the box in " + axis;
+    if (lo[d] < box.lo[d] - period - box.slack || hi[d] > box.hi[d] + period + box.slack)
+      return " lies more than a period outside it in the periodic dimension " + axis +
+             ", beyond the reach of the particles' images: move it into the box";
+    return "";
+  }
+  for (int side = 0; side < 2; ++side) {
+    const bool out = side == 0 ? lo[d] < box.lo[d] - box.slack : hi[d] > box.hi[d] + box.slack;
+    if (out && box.fixed[d][side])
+      return " reaches beyond its fixed " + axis + (side ? "-high" : "-low") +
+             " face; particles are lost beyond a fixed face, so they cannot hit "
+             "that part: keep the body inside or enlarge the box";
+  }
+  return "";
+}
+} // namespace
+
+std::string body_box_violation(const std::vector<Facet>& facets, const double* x,
+                               const HostBox& box)
+{
+  if (facets.empty()) return "";
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = std::numeric_limits<double>::infinity();
+    hi[d] = -lo[d];
+  }
+  for (const Facet& fc : facets)
+    for (int k = 0; k < fc.nn; ++k)
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], x[3 * fc.n[k] + d]);
+        hi[d] = std::max(hi[d], x[3 * fc.n[k] + d]);
+      }
+  for (int d = 0; d < box.dimension; ++d) {
+    const std::string why = box_reason(lo, hi, box, d);
+    if (why.empty()) continue;
+    std::string extent = "the body (", where = " in the box (";
+    for (int e = 0; e < box.dimension; ++e) {
+      char r[96];
+      snprintf(r, sizeof r, "%s%c %g to %g", e ? ", " : "", "xyz"[e], lo[e], hi[e]);
+      extent += r;
+      snprintf(r, sizeof r, "%s%c %g to %g", e ? ", " : "", "xyz"[e], box.lo[e], box.hi[e]);
+      where += r;
+    }
+    return extent + ")" + where + ")" + why;
+  }
+  return "";
 }
 
 } // namespace fracdem

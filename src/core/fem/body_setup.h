@@ -57,4 +57,22 @@ bool body_vector_entry(const Body& body, int i, int ngroups, double& value);
 int split_node_count(const Body& body);
 int fragment_count(const Body& body);
 
+// The host's simulation box as the body-in-box check needs it (bounds of a triclinic box).
+struct HostBox {
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  bool periodic[3] = {false, false, false};
+  bool fixed[3][2] = {{false, false}, {false, false}, {false, false}}; // per face: 'f' boundary
+  int dimension = 3; // 2D: z is periodic by rule and the body lies in z = 0
+  double slack = 0;  // the contact search buffer
+};
+// Particles live inside the box. Beyond a fixed face they are lost, so the body's surface must
+// lie inside the fixed faces. Across a periodic boundary the particles' images (one period
+// away) meet the body, so it may cross the boundary, but not be longer than the period (it
+// would overlap its own image) nor lie more than a period outside. A shrink-wrapped face follows
+// the particles to wherever the body is. Only the surface (facets) counts: nothing else can be
+// hit (the free nodes of eroded elements may fly anywhere). Returns "" or the message
+// "the body (x .. to .., ...) in the box (...) <why>".
+std::string body_box_violation(const std::vector<Facet>& facets, const double* x,
+                               const HostBox& box);
+
 } // namespace fracdem
