@@ -131,9 +131,7 @@ double SurfaceContact::stiffness(const double* q, const Facet& fc, const double*
 
 // The penetration the penalty acts on: t.depth less the part of it that the relative approach
 // over the step cannot have produced (see the class notes).
-double SurfaceContact::effective_depth(int node, const Touch& t, const Facet& fc,
-                                       const ContactBodyState& a, const ContactBodyState& b,
-                                       double dt)
+double SurfaceContact::effective_depth(int node, const Touch& t, double dt)
 {
   if (static_cast<size_t>(node) >= last_eval_.size()) {
     last_eval_.resize(node + 1, -1);
@@ -144,12 +142,8 @@ double SurfaceContact::effective_depth(int node, const Touch& t, const Facet& fc
   const double before = continued ? last_depth_[node] : 0.0;
   double offset = continued ? offset_[node] : 0.0;
   double approach = 0; // rate of growth of the penetration: -(v_node - v_facet) . n
-  for (int d = 0; d < 3; ++d) {
-    double vr = a.v[3 * node + d];
-    for (int j = 0; j < fc.nn; ++j)
-      vr -= t.w[j] * b.v[3 * fc.n[j] + d];
-    approach -= vr * t.normal[d];
-  }
+  for (int d = 0; d < 3; ++d)
+    approach -= t.vr[d] * t.normal[d];
   // Twice the approach covers a facet that turns or deforms within the step.
   const double explained = 2 * std::max(approach, 0.0) * dt;
   offset += std::max(t.depth - before - explained, 0.0);
@@ -168,12 +162,7 @@ void SurfaceContact::apply(int node, const Touch& t, const Facet& fc, const Cont
   for (int d = 0; d < 3; ++d)
     force[d] = fn * t.normal[d];
   if (opt_.friction > 0) {
-    double vr[3];
-    for (int d = 0; d < 3; ++d) {
-      vr[d] = a.v[3 * node + d];
-      for (int j = 0; j < fc.nn; ++j)
-        vr[d] -= t.w[j] * b.v[3 * fc.n[j] + d];
-    }
+    const double* vr = t.vr;
     const double vn = vr[0] * t.normal[0] + vr[1] * t.normal[1] + vr[2] * t.normal[2];
     double vt[3];
     for (int d = 0; d < 3; ++d)
@@ -257,7 +246,12 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
     }
     if (best.facet >= 0) {
       const Facet& fc = facets_of.facets[best.facet];
-      best.depth = effective_depth(node, best, fc, a, b, dt);
+      for (int d = 0; d < 3; ++d) {
+        best.vr[d] = a.v[3 * node + d];
+        for (int j = 0; j < fc.nn; ++j)
+          best.vr[d] -= best.w[j] * b.v[3 * fc.n[j] + d];
+      }
+      best.depth = effective_depth(node, best, dt);
       apply(node, best, fc, a, b, dt);
       ++contacts;
     }

@@ -83,14 +83,14 @@ private:
   struct Touch {
     int facet = -1;
     double depth = 0, normal[3], w[3];
+    double vr[3]; // velocity of the node relative to the facet's contact point
   };
   bool touch(const double* q, const Facet& fc, double reach, const double* x, Touch& t) const;
   void apply(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
              const ContactBodyState& b, double dt) const;
   double stiffness(const double* q, const Facet& fc, const double* x) const;
   void rebuild_search(const ContactSurface& facets_of, const double* xb, int ns, double buffer);
-  double effective_depth(int node, const Touch& t, const Facet& fc, const ContactBodyState& a,
-                         const ContactBodyState& b, double dt);
+  double effective_depth(int node, const Touch& t, double dt);
 
   SurfaceContactOptions opt_;
   BufferedSearch search_{0.0};
