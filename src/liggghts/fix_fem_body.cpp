@@ -596,8 +596,6 @@ double FixFemBody::compute_vector(int i)
     MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
     return total;
   }
-  case fracdem::kVecDissipated: // the material's and the bulk viscosity's: the energy balance's
-    return body_.dissipated_energy() + body_.viscous_work();
   }
   const int ngroups = static_cast<int>(spec_.reaction_groups.size());
   double value = 0.0;

@@ -164,8 +164,8 @@ bool body_scalar(const Body& body, int i, double& value)
   case kVecMomentumZ:
     value = body.momentum(i - kVecMomentumX);
     return true;
-  case kVecDissipated:
-    value = body.dissipated_energy();
+  case kVecDissipated: // the material's and the bulk viscosity's: the energy balance's
+    value = body.dissipated_energy() + body.viscous_work();
     return true;
   case kVecSplitNodes:
     value = split_node_count(body);
