@@ -4,6 +4,7 @@
 
 #include "compute_fracdem_cost.h"
 #include "fix_fem_body_lammps.h"
+#include "fix_fem_vtk_lammps.h"
 #include "plugin_version.h"
 
 #ifndef FRACDEM_LAMMPS_EXPECTED_VERSION
@@ -42,6 +43,11 @@ Fix* create_fix_fem_body(LAMMPS* lmp, int narg, char** arg)
   return new FixFemBodyLammps(lmp, narg, arg);
 }
 
+Fix* create_fix_fem_vtk(LAMMPS* lmp, int narg, char** arg)
+{
+  return new FixFemVtkLammps(lmp, narg, arg);
+}
+
 Fix* create_fix_fracdem_cost(LAMMPS* lmp, int narg, char** arg)
 {
   return new FixFracdemCost(lmp, narg, arg);
@@ -75,6 +81,12 @@ extern "C" void lammpsplugin_init(void* lmp_ptr, void* handle, void* regfunc_ptr
   plugin.name = "fem/body";
   plugin.info = "fracdem fix fem/body: finite-element body with particle contact (preview)";
   plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2*>(&create_fix_fem_body);
+  (*regfunc)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "fem/vtk";
+  plugin.info = "fracdem fix fem/vtk: ParaView output (.vtu + .pvd) of a fix fem/body";
+  plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2*>(&create_fix_fem_vtk);
   (*regfunc)(&plugin, lmp);
 
   plugin.style = "compute";
