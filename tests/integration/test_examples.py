@@ -1,5 +1,6 @@
 """Every example runs (shortened) at 2 ranks: no error, no particle lost, ParaView output written,
-nothing but out/ created (LIGGGHTS' `shell mkdir` takes no options: `mkdir -p out` makes `-p`)."""
+nothing but out/ created (LIGGGHTS' `shell mkdir` takes no options: `mkdir -p out` makes `-p`).
+LAMMPS versions of examples (`in.*.lammps`) run in tests/lammps."""
 import glob
 import os
 import re
@@ -9,7 +10,8 @@ import tempfile
 import harness as h
 
 args = h.parse_args()
-examples = sorted(glob.glob(os.path.join(h.ROOT, "examples", "*", "in.*")))
+examples = sorted(p for p in glob.glob(os.path.join(h.ROOT, "examples", "*", "in.*"))
+                  if not p.endswith(".lammps"))
 h.check(len(examples) >= 2, f"found {len(examples)} examples")
 
 # Every input script of the package: `shell mkdir` makes each of its words a directory.
