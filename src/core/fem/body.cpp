@@ -65,6 +65,15 @@ void Body::set_bulk_viscosity(const BulkViscosity& bv)
     a->assign(ne, 0.0);
 }
 
+void Body::set_masses(const std::vector<double>& mass)
+{
+  if (mass.size() != mass_.size())
+    throw FeError(-1, "Body::set_masses: one mass per node expected");
+  mass_ = mass;
+  for (size_t n = 0; n < mass_.size(); ++n)
+    inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+}
+
 void Body::set_element_range(int begin, int end)
 {
   elem_begin_ = begin;

@@ -59,6 +59,9 @@ public:
   // Velocities of fixed / prescribed nodes set to their conditions (after initial velocities).
   void impose_velocity_conditions();
   void set_rigid_motion(const RigidMotion& motion) { motion_ = motion; }
+  // A part of a distributed body lumps at the nodes it shares only its own elements' mass; the
+  // host sums the parts' masses (InterfaceSum, fem/body_partition.h) and sets the totals here.
+  void set_masses(const std::vector<double>& mass);
 
   // ---- explicit update (velocity Verlet, in step with the host) ----
   void advance_time(double dt) { time_ += dt; }

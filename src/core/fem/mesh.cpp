@@ -41,6 +41,22 @@ double signed_measure(const Mesh& m, int e)
   return 0.5 * a;
 }
 
+int element_facet_keys(const Mesh& mesh, int e, std::array<int, 3>* keys)
+{
+  const auto& c = mesh.conn[e];
+  if (mesh.etype[e] == ElemType::Tet4) {
+    for (int k = 0; k < 4; ++k) {
+      keys[k] = {c[kTetFaces[k][0]], c[kTetFaces[k][1]], c[kTetFaces[k][2]]};
+      std::sort(keys[k].begin(), keys[k].end());
+    }
+    return 4;
+  }
+  const int n = nodes_per_elem(mesh.etype[e]);
+  for (int k = 0; k < n; ++k)
+    keys[k] = {std::min(c[k], c[(k + 1) % n]), std::max(c[k], c[(k + 1) % n]), -1};
+  return n;
+}
+
 std::vector<Facet> boundary_facets(const Mesh& mesh)
 {
   struct Entry {
@@ -49,23 +65,12 @@ std::vector<Facet> boundary_facets(const Mesh& mesh)
   };
   std::vector<Entry> all;
   all.reserve(4 * mesh.conn.size());
+  std::array<int, 3> keys[4];
   for (int e = 0; e < mesh.num_elems(); ++e) {
     if (!mesh.active[e]) continue;
-    const auto& c = mesh.conn[e];
-    if (mesh.etype[e] == ElemType::Tet4) {
-      for (int k = 0; k < 4; ++k) {
-        std::array<int, 3> key = {c[kTetFaces[k][0]], c[kTetFaces[k][1]], c[kTetFaces[k][2]]};
-        std::sort(key.begin(), key.end());
-        all.push_back({key, e, k});
-      }
-    } else {
-      const int n = nodes_per_elem(mesh.etype[e]);
-      for (int k = 0; k < n; ++k) {
-        std::array<int, 3> key = {std::min(c[k], c[(k + 1) % n]), std::max(c[k], c[(k + 1) % n]),
-                                  -1};
-        all.push_back({key, e, k});
-      }
-    }
+    const int nf = element_facet_keys(mesh, e, keys);
+    for (int k = 0; k < nf; ++k)
+      all.push_back({keys[k], e, k});
   }
   std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) {
     return std::tie(a.key, a.elem, a.local) < std::tie(b.key, b.elem, b.local);

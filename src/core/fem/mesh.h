@@ -79,6 +79,9 @@ struct Facet {
 // Facets that belong to exactly one active element. Deterministic order
 // (sorted by owning element, then local face).
 std::vector<Facet> boundary_facets(const Mesh& mesh);
+// The facets of element e as sorted node triples (third -1 for a 2D edge), in local-face order:
+// two elements share a facet when they share a key. Returns the count (4 for a tet, 3 or 4 in 2D).
+int element_facet_keys(const Mesh& mesh, int e, std::array<int, 3>* keys);
 
 // Six times the signed volume of the tet with nodes c (3 coordinates per node in X): positive
 // when node 3 lies on the side of face (0, 1, 2) that its right-hand normal points to.

@@ -1,0 +1,200 @@
+// Element partitions of a distributed body: dual graph, METIS parts, part meshes, interface sums.
+#include "fem/body_partition.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <tuple>
+
+namespace fracdem
+{
+
+balance::Graph element_dual_graph(const Mesh& mesh, const std::vector<int64_t>& element_weight)
+{
+  const int ne = mesh.num_elems();
+  if (!element_weight.empty() && static_cast<int>(element_weight.size()) != ne)
+    throw std::invalid_argument("element_dual_graph: one weight per element expected");
+  struct Entry {
+    std::array<int, 3> key;
+    int elem;
+  };
+  std::vector<Entry> all;
+  all.reserve(4 * static_cast<size_t>(ne));
+  std::array<int, 3> keys[4];
+  for (int e = 0; e < ne; ++e) {
+    if (!mesh.active[e]) continue;
+    const int nf = element_facet_keys(mesh, e, keys);
+    for (int k = 0; k < nf; ++k)
+      all.push_back({keys[k], e});
+  }
+  std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) {
+    return std::tie(a.key, a.elem) < std::tie(b.key, b.elem);
+  });
+  std::vector<balance::WeightedPair> pairs;
+  for (size_t i = 0; i + 1 < all.size(); ++i)
+    if (all[i].key == all[i + 1].key) pairs.push_back({all[i].elem, all[i + 1].elem, 1});
+  std::vector<int64_t> weight(ne);
+  for (int e = 0; e < ne; ++e)
+    weight[e] = element_weight.empty() ? points_per_elem(mesh.etype[e]) : element_weight[e];
+  return balance::build_graph(ne, weight, pairs);
+}
+
+std::vector<int> partition_elements(const Mesh& mesh, int nparts,
+                                    const std::vector<int64_t>& element_weight)
+{
+  // Eroded elements are isolated vertices of weight 1 in the graph; they belong to no part.
+  std::vector<int> part = balance::partition_kway(element_dual_graph(mesh, element_weight), nparts);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (!mesh.active[e]) part[e] = -1;
+  return part;
+}
+
+int MeshPart::num_shared_nodes() const
+{
+  int n = 0;
+  for (int i = 0; i < num_nodes(); ++i)
+    n += shared(i) ? 1 : 0;
+  return n;
+}
+
+namespace
+{
+// Parts that use each global node, ascending, as CSR.
+void node_sharers(const Mesh& mesh, const std::vector<int>& elem_part, std::vector<int>& start,
+                  std::vector<int>& parts)
+{
+  const int nn = mesh.num_nodes();
+  std::vector<std::vector<int>> lists(nn);
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    if (elem_part[e] < 0) continue;
+    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a) {
+      std::vector<int>& l = lists[mesh.conn[e][a]];
+      if (std::find(l.begin(), l.end(), elem_part[e]) == l.end()) l.push_back(elem_part[e]);
+    }
+  }
+  start.assign(1, 0);
+  parts.clear();
+  for (auto& l : lists) {
+    std::sort(l.begin(), l.end());
+    parts.insert(parts.end(), l.begin(), l.end());
+    start.push_back(static_cast<int>(parts.size()));
+  }
+}
+
+// Named sets restricted to the part, renumbered (sorted, as Mesh keeps them).
+std::map<std::string, std::vector<int>>
+restrict_sets(const std::map<std::string, std::vector<int>>& sets, const std::vector<int>& local_of)
+{
+  std::map<std::string, std::vector<int>> out;
+  for (const auto& [name, ids] : sets) {
+    std::vector<int>& dst = out[name];
+    for (int g : ids)
+      if (local_of[g] >= 0) dst.push_back(local_of[g]);
+    std::sort(dst.begin(), dst.end());
+  }
+  return out;
+}
+} // namespace
+
+MeshPart extract_part(const Mesh& mesh, const std::vector<int>& elem_part, int part)
+{
+  if (static_cast<int>(elem_part.size()) != mesh.num_elems())
+    throw std::invalid_argument("extract_part: one part number per element expected");
+  MeshPart p;
+  p.part = part;
+  p.nparts = 1 + *std::max_element(elem_part.begin(), elem_part.end());
+  std::vector<int> start, parts;
+  node_sharers(mesh, elem_part, start, parts);
+  std::vector<int> node_local(mesh.num_nodes(), -1), elem_local(mesh.num_elems(), -1);
+  for (int g = 0; g < mesh.num_nodes(); ++g)
+    if (std::binary_search(parts.begin() + start[g], parts.begin() + start[g + 1], part)) {
+      node_local[g] = p.num_nodes();
+      p.global_node.push_back(g);
+    }
+  Mesh& m = p.mesh;
+  m.dim = mesh.dim;
+  for (int g : p.global_node) {
+    m.X.insert(m.X.end(), &mesh.X[3 * g], &mesh.X[3 * g] + 3);
+    p.sharer_start.push_back(static_cast<int>(p.sharers.size()));
+    p.sharers.insert(p.sharers.end(), parts.begin() + start[g], parts.begin() + start[g + 1]);
+  }
+  p.sharer_start.push_back(static_cast<int>(p.sharers.size()));
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    if (elem_part[e] != part) continue;
+    elem_local[e] = static_cast<int>(p.global_elem.size());
+    p.global_elem.push_back(e);
+    std::array<int, 4> c = {-1, -1, -1, -1};
+    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+      c[a] = node_local[mesh.conn[e][a]];
+    m.conn.push_back(c);
+    m.etype.push_back(mesh.etype[e]);
+    m.active.push_back(1);
+    m.region.push_back(mesh.region.empty() ? 0 : mesh.region[e]);
+  }
+  m.node_sets = restrict_sets(mesh.node_sets, node_local);
+  m.elem_sets = restrict_sets(mesh.elem_sets, elem_local);
+  // Neighbours: every other sharer of a local node; nodes in ascending global (= local) order.
+  std::map<int, std::vector<int>> shared_with;
+  for (int n = 0; n < p.num_nodes(); ++n)
+    for (int s = p.sharer_start[n]; s < p.sharer_start[n + 1]; ++s)
+      if (p.sharers[s] != part) shared_with[p.sharers[s]].push_back(n);
+  for (auto& [q, nodes] : shared_with)
+    p.neighbours.push_back({q, std::move(nodes)});
+  return p;
+}
+
+InterfaceSum::InterfaceSum(const MeshPart& part)
+{
+  for (const PartNeighbour& nb : part.neighbours)
+    nodes_.push_back(nb.nodes);
+  // Position of each shared node in each neighbour's message.
+  std::vector<std::vector<std::pair<int, int>>> found(part.num_nodes()); // (neighbour, position)
+  for (int k = 0; k < num_neighbours(); ++k)
+    for (int i = 0; i < static_cast<int>(nodes_[k].size()); ++i)
+      found[nodes_[k][i]].push_back({k, i});
+  slot_start_.push_back(0);
+  for (int n = 0; n < part.num_nodes(); ++n) {
+    if (!part.shared(n)) continue;
+    shared_node_.push_back(n);
+    // Sharers ascending; neighbours are ascending too, so walk both together.
+    size_t j = 0;
+    for (int s = part.sharer_start[n]; s < part.sharer_start[n + 1]; ++s) {
+      if (part.sharers[s] == part.part) {
+        slots_.push_back({-1, -1});
+        continue;
+      }
+      slots_.push_back({found[n][j].first, found[n][j].second});
+      ++j;
+    }
+    slot_start_.push_back(static_cast<int>(slots_.size()));
+  }
+}
+
+void InterfaceSum::pack(int k, const double* field, int width, std::vector<double>& message) const
+{
+  message.resize(message_size(k, width));
+  double* out = message.data();
+  for (int n : nodes_[k])
+    for (int d = 0; d < width; ++d)
+      *out++ = field[width * n + d];
+}
+
+void InterfaceSum::combine(double* field, int width,
+                           const std::vector<std::vector<double>>& received) const
+{
+  if (width < 1 || width > 8) throw std::invalid_argument("InterfaceSum: width 1..8 expected");
+  double own[8];
+  for (size_t i = 0; i < shared_node_.size(); ++i) {
+    double* f = field + width * shared_node_[i];
+    std::copy(f, f + width, own);
+    std::fill(f, f + width, 0.0);
+    for (int s = slot_start_[i]; s < slot_start_[i + 1]; ++s) {
+      const double* c = slots_[s].neighbour < 0
+                            ? own
+                            : &received[slots_[s].neighbour][width * slots_[s].position];
+      for (int d = 0; d < width; ++d)
+        f[d] += c[d];
+    }
+  }
+}
+
+} // namespace fracdem

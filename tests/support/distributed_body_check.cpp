@@ -1,0 +1,161 @@
+// MPI check of a distributed body: each rank steps its METIS part with the neighbour exchange, rank
+// 0 steps the whole body, and the two must agree (positions, energy); shared nodes bit-identical.
+//
+//   mpirun -np P fracdem_dist_check [tet|tri|quad] [STEPS] [CELLS]
+//
+// Prints one line "dist_check ..." on rank 0 and exits 1 when a check fails. Run under the PMPI
+// counter (tests/integration/test_distributed_counts.py) it shows what one step sends: set-up and
+// the final comparison are the same for any STEPS and cancel in the difference of two runs.
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "fem/body.h"
+#include "fem/body_partition.h"
+#include "io/mesh_generators.h"
+#include "node_exchange.h"
+
+using namespace fracdem;
+
+namespace
+{
+
+Mesh make_mesh(const std::string& kind, int cells)
+{
+  if (kind == "tet") return make_box_tet_mesh(2 * cells, cells, cells, 0.2, 0.1, 0.1);
+  return make_rect_mesh(4 * cells, 2 * cells, 0.2, 0.1, {0, 0},
+                        kind == "tri" ? ElemType::Tri3 : ElemType::Quad4);
+}
+
+// A clamped steel body set swinging and twisting: every element strains.
+void set_up(Body& b, const Mesh& m)
+{
+  Material steel;
+  steel.E = 2e11;
+  steel.nu = 0.3;
+  steel.rho = 7800;
+  steel.kinematics = Kinematics::Corotational;
+  b.build(m, steel, false);
+  for (int n = 0; n < m.num_nodes(); ++n) {
+    const double* X = &m.X[3 * n];
+    const double v[3] = {20.0 * X[1], 30.0 * X[0], m.dim == 3 ? -40.0 * X[0] * X[1] : 0.0};
+    b.set_velocity({n}, v);
+  }
+  b.set_fixed(m.node_sets.at("xmin"));
+  b.impose_velocity_conditions();
+}
+
+// One velocity-Verlet step; `sum` completes the internal forces (exchange or nothing).
+template <class Sum> double step(Body& b, double dt, Sum sum)
+{
+  const double g[3] = {0, 0, 0};
+  b.half_kick_drift(dt);
+  b.begin_forces();
+  int inverted = -1;
+  const double energy = b.add_internal_forces(&inverted);
+  if (inverted >= 0) {
+    std::fprintf(stderr, "dist_check: element %d inverted\n", inverted);
+    std::exit(2);
+  }
+  sum(b.forces_data());
+  b.finish_forces(energy, g, dt, true);
+  b.half_kick(dt);
+  return energy;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  MPI_Init(&argc, &argv);
+  int rank = 0, nprocs = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  const std::string kind = argc > 1 ? argv[1] : "tet";
+  const int steps = argc > 2 ? std::atoi(argv[2]) : 200;
+  const int cells = argc > 3 ? std::atoi(argv[3]) : 4;
+  const Mesh mesh = make_mesh(kind, cells);
+
+  // Set-up: every rank partitions the same mesh the same way and keeps its part.
+  const MeshPart part = extract_part(mesh, partition_elements(mesh, nprocs), rank);
+  Body body;
+  set_up(body, part.mesh);
+  NodeExchange exchange(MPI_COMM_WORLD, part);
+  std::vector<double> mass = body.masses();
+  exchange.sum(mass.data(), 1);
+  body.set_masses(mass);
+  Body whole;
+  set_up(whole, mesh);
+  const double dt = 0.5 * whole.stable_time_step();
+
+  double strain = 0;
+  for (int s = 0; s < steps; ++s)
+    strain = step(body, dt, [&](double* f) { exchange.sum(f, 3); });
+
+  // Comparison (after the steps; its traffic does not depend on STEPS).
+  double kinetic = 0;
+  std::vector<double> mine; // global node, x, y, z
+  for (int n = 0; n < part.num_nodes(); ++n) {
+    const double* v = &body.velocities()[3 * n];
+    if (part.owns(n)) kinetic += 0.5 * body.masses()[n] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    mine.push_back(part.global_node[n]);
+    mine.insert(mine.end(), &body.positions()[3 * n], &body.positions()[3 * n] + 3);
+  }
+  double energies[2] = {kinetic, strain};
+  MPI_Allreduce(MPI_IN_PLACE, energies, 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(nprocs), offsets(nprocs, 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  for (int r = 1; r < nprocs; ++r)
+    offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(rank == 0 ? offsets.back() + counts.back() : 0);
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+              0, MPI_COMM_WORLD);
+  int shared_sum = part.num_shared_nodes(), neighbours = static_cast<int>(part.neighbours.size());
+  long long interface_pairs = 0;
+  for (const PartNeighbour& nb : part.neighbours)
+    interface_pairs += static_cast<long long>(nb.nodes.size());
+  MPI_Allreduce(MPI_IN_PLACE, &shared_sum, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &neighbours, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &interface_pairs, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  int failed = 0;
+  if (rank == 0) {
+    double whole_strain = 0;
+    for (int s = 0; s < steps; ++s)
+      whole_strain = step(whole, dt, [](double*) {});
+    const double whole_total = whole.kinetic_energy() + whole_strain;
+    double worst = 0, moved = 0;
+    bool identical = true;
+    std::vector<std::vector<double>> seen(mesh.num_nodes());
+    for (size_t i = 0; i < all.size(); i += 4) {
+      const int g = static_cast<int>(all[i]);
+      const double* x = &all[i + 1];
+      for (int d = 0; d < 3; ++d) {
+        worst = std::max(worst, std::abs(x[d] - whole.positions()[3 * g + d]));
+        moved = std::max(moved, std::abs(whole.positions()[3 * g + d] - mesh.X[3 * g + d]));
+      }
+      if (seen[g].empty())
+        seen[g].assign(x, x + 3);
+      else if (!std::equal(x, x + 3, seen[g].begin()))
+        identical = false;
+    }
+    const double energy_rel = std::abs(energies[0] + energies[1] - whole_total) / whole_total;
+    // Tolerances: positions within 1e-10 of the body's size (round-off of a different summation
+    // order, ~1e-15 m here), energy within 1e-10 relative (issue #13, item 3).
+    failed = !(worst < 1e-10 * 0.2) || !(energy_rel < 1e-10) || !identical || !(moved > 1e-6);
+    std::printf("dist_check kind=%s np=%d steps=%d elements=%d nodes=%d shared_nodes=%d "
+                "interface_pairs=%lld max_neighbours=%d max_position_difference=%.3e "
+                "moved=%.3e energy_relative_difference=%.3e shared_identical=%s result=%s\n",
+                kind.c_str(), nprocs, steps, mesh.num_elems(), mesh.num_nodes(), shared_sum,
+                interface_pairs, neighbours, worst, moved, energy_rel, identical ? "yes" : "no",
+                failed ? "FAIL" : "ok");
+  }
+  MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return failed;
+}

@@ -1,0 +1,270 @@
+// Element partitions of a body: dual graph against facet counts, parts against the whole mesh,
+// interface sums against a brute-force sum, and parts stepped in lockstep against the whole body.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "fem/body.h"
+#include "fem/body_partition.h"
+#include "io/mesh_generators.h"
+
+using namespace fracdem;
+
+namespace
+{
+
+Mesh test_mesh(ElemType type)
+{
+  return type == ElemType::Tet4 ? make_box_tet_mesh(6, 3, 3, 0.6, 0.3, 0.3)
+                                : make_rect_mesh(12, 6, 1.2, 0.6, {0, 0}, type);
+}
+
+std::vector<MeshPart> all_parts(const Mesh& mesh, int nparts)
+{
+  const std::vector<int> part = partition_elements(mesh, nparts);
+  std::vector<MeshPart> parts;
+  for (int p = 0; p < nparts; ++p)
+    parts.push_back(extract_part(mesh, part, p));
+  return parts;
+}
+
+// Every part's messages to every neighbour, as the host's exchange would deliver them.
+std::vector<std::vector<double>> messages_to(const std::vector<MeshPart>& parts,
+                                             const std::vector<InterfaceSum>& sums,
+                                             const std::vector<const double*>& fields, int width,
+                                             int p)
+{
+  std::vector<std::vector<double>> received;
+  for (const PartNeighbour& nb : parts[p].neighbours) {
+    const MeshPart& q = parts[nb.part];
+    int k = 0;
+    while (q.neighbours[k].part != p)
+      ++k;
+    received.emplace_back();
+    sums[nb.part].pack(k, fields[nb.part], width, received.back());
+  }
+  return received;
+}
+
+} // namespace
+
+class BodyPartition : public ::testing::TestWithParam<ElemType>
+{
+};
+
+// Interior facets are shared by two elements: the dual graph has (facets - boundary facets) / 2
+// edges, counted here from boundary_facets, an independent path.
+TEST_P(BodyPartition, DualGraphHasAnEdgePerInteriorFacet)
+{
+  const Mesh mesh = test_mesh(GetParam());
+  const balance::Graph g = element_dual_graph(mesh);
+  const int per_elem = GetParam() == ElemType::Tri3 ? 3 : 4;
+  const int64_t interior = (per_elem * mesh.num_elems() - boundary_facets(mesh).size()) / 2;
+  EXPECT_EQ(g.num_edges(), interior);
+  EXPECT_EQ(g.num_vertices(), mesh.num_elems());
+}
+
+// Parts cover every element once, agree with the whole mesh's connectivity, list their shared
+// nodes in the same order on both sides, and carry about the same number of elements.
+TEST_P(BodyPartition, PartsCoverTheMeshAndAgreeOnTheirInterfaces)
+{
+  const Mesh mesh = test_mesh(GetParam());
+  for (int nparts : {1, 2, 3, 4}) {
+    const std::vector<MeshPart> parts = all_parts(mesh, nparts);
+    std::vector<int> seen(mesh.num_elems(), 0);
+    for (const MeshPart& p : parts) {
+      EXPECT_LE(p.global_elem.size(), 1.05 * mesh.num_elems() / nparts + 1) << nparts;
+      for (size_t e = 0; e < p.global_elem.size(); ++e) {
+        const int g = p.global_elem[e];
+        ++seen[g];
+        for (int a = 0; a < nodes_per_elem(mesh.etype[g]); ++a)
+          EXPECT_EQ(p.global_node[p.mesh.conn[e][a]], mesh.conn[g][a]);
+      }
+      for (const PartNeighbour& nb : p.neighbours) {
+        const MeshPart& q = parts[nb.part];
+        const auto it = std::find_if(q.neighbours.begin(), q.neighbours.end(),
+                                     [&](const PartNeighbour& x) { return x.part == p.part; });
+        ASSERT_NE(it, q.neighbours.end());
+        ASSERT_EQ(it->nodes.size(), nb.nodes.size());
+        for (size_t i = 0; i < nb.nodes.size(); ++i)
+          EXPECT_EQ(p.global_node[nb.nodes[i]], q.global_node[it->nodes[i]]);
+      }
+    }
+    for (int s : seen)
+      EXPECT_EQ(s, 1);
+    // Every node is owned by exactly one part.
+    std::vector<int> owners(mesh.num_nodes(), 0);
+    for (const MeshPart& p : parts)
+      for (int n = 0; n < p.num_nodes(); ++n)
+        owners[p.global_node[n]] += p.owns(n) ? 1 : 0;
+    for (int o : owners)
+      EXPECT_EQ(o, 1);
+  }
+}
+
+// Random contributions per part: after the exchange every sharer holds the same bits, equal to
+// the brute-force sum over the node's sharers in ascending part order.
+TEST_P(BodyPartition, InterfaceSumIsTheSameOnEverySharer)
+{
+  const Mesh mesh = test_mesh(GetParam());
+  const int nparts = 4, width = 3;
+  const std::vector<MeshPart> parts = all_parts(mesh, nparts);
+  std::vector<InterfaceSum> sums(parts.begin(), parts.end());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<std::vector<double>> own(nparts), field(nparts);
+  for (int p = 0; p < nparts; ++p) {
+    own[p].resize(width * parts[p].num_nodes());
+    for (double& x : own[p])
+      x = u(rng);
+  }
+  std::vector<const double*> ptrs;
+  for (auto& o : own)
+    ptrs.push_back(o.data());
+  std::vector<double> brute(width * mesh.num_nodes(), 0.0);
+  for (int p = 0; p < nparts; ++p) // ascending part order, as the sum promises
+    for (int n = 0; n < parts[p].num_nodes(); ++n)
+      for (int d = 0; d < width; ++d)
+        brute[width * parts[p].global_node[n] + d] += own[p][width * n + d];
+  size_t sent = 0;
+  for (int p = 0; p < nparts; ++p) {
+    field[p] = own[p];
+    const auto received = messages_to(parts, sums, ptrs, width, p);
+    for (const auto& m : received)
+      sent += m.size();
+    sums[p].combine(field[p].data(), width, received);
+    for (int n = 0; n < parts[p].num_nodes(); ++n)
+      for (int d = 0; d < width; ++d)
+        EXPECT_EQ(field[p][width * n + d], brute[width * parts[p].global_node[n] + d]);
+  }
+  // The messages carry width doubles per (shared node, neighbour) pair and nothing else.
+  size_t pairs = 0;
+  for (const MeshPart& p : parts)
+    for (const PartNeighbour& nb : p.neighbours)
+      pairs += nb.nodes.size();
+  EXPECT_EQ(sent, width * pairs);
+}
+
+// Parts of a body stepped in lockstep (the exchange done in memory) follow the whole body: same
+// total mass, positions within 1e-10 of the body's size after 300 steps of a shaken, clamped body,
+// and bit-identical positions of a shared node on every part that holds it.
+TEST_P(BodyPartition, PartsInLockstepFollowTheWholeBody)
+{
+  const ElemType type = GetParam();
+  const Mesh mesh = test_mesh(type);
+  Material steel;
+  steel.E = 2e11;
+  steel.nu = 0.3;
+  steel.rho = 7800;
+  steel.kinematics = Kinematics::Corotational;
+  auto velocity = [&](const double* X, double* v) {
+    v[0] = 2.0 * X[1];
+    v[1] = 3.0 * X[0] * X[0];
+    v[2] = type == ElemType::Tet4 ? -2.0 * X[0] * X[1] : 0.0;
+  };
+  auto set_up = [&](Body& b, const Mesh& m) {
+    b.build(m, steel, false);
+    for (int n = 0; n < m.num_nodes(); ++n) {
+      double v[3];
+      velocity(&m.X[3 * n], v);
+      b.set_velocity({n}, v);
+    }
+    b.set_fixed(m.node_sets.at("xmin"));
+    b.impose_velocity_conditions();
+  };
+  Body whole;
+  set_up(whole, mesh);
+  const double dt = 0.5 * whole.stable_time_step();
+  const int nparts = 3;
+  const std::vector<MeshPart> parts = all_parts(mesh, nparts);
+  std::vector<InterfaceSum> sums(parts.begin(), parts.end());
+  std::vector<Body> bodies(nparts);
+  auto exchange = [&](int width, auto field_of, auto after) {
+    std::vector<std::vector<double>> fields(nparts);
+    std::vector<const double*> ptrs;
+    for (int p = 0; p < nparts; ++p) {
+      fields[p] = field_of(p);
+      ptrs.push_back(fields[p].data());
+    }
+    for (int p = 0; p < nparts; ++p) {
+      std::vector<double> f = fields[p];
+      sums[p].combine(f.data(), width, messages_to(parts, sums, ptrs, width, p));
+      after(p, f);
+    }
+  };
+  for (int p = 0; p < nparts; ++p)
+    set_up(bodies[p], parts[p].mesh);
+  exchange(
+      1, [&](int p) { return bodies[p].masses(); },
+      [&](int p, const std::vector<double>& m) { bodies[p].set_masses(m); });
+  double owned_mass = 0, whole_mass = 0;
+  for (int p = 0; p < nparts; ++p)
+    for (int n = 0; n < parts[p].num_nodes(); ++n)
+      if (parts[p].owns(n)) owned_mass += bodies[p].masses()[n];
+  for (double m : whole.masses())
+    whole_mass += m;
+  EXPECT_NEAR(owned_mass, whole_mass, 1e-13 * whole_mass);
+
+  const double g[3] = {0, 0, 0};
+  auto step = [&](Body& b, auto sum_forces) {
+    b.half_kick_drift(dt);
+    b.begin_forces();
+    int inverted = -1;
+    const double e = b.add_internal_forces(&inverted);
+    ASSERT_LT(inverted, 0);
+    sum_forces();
+    b.finish_forces(e, g, dt, true);
+    b.half_kick(dt);
+  };
+  for (int s = 0; s < 300; ++s) {
+    step(whole, [] {});
+    for (int p = 0; p < nparts; ++p) {
+      bodies[p].half_kick_drift(dt);
+      bodies[p].begin_forces();
+    }
+    for (int p = 0; p < nparts; ++p) {
+      int inverted = -1;
+      bodies[p].add_internal_forces(&inverted);
+      ASSERT_LT(inverted, 0);
+    }
+    exchange(
+        3, [&](int p) { return bodies[p].forces(); },
+        [&](int p, const std::vector<double>& f) {
+          std::copy(f.begin(), f.end(), bodies[p].forces_data());
+        });
+    for (int p = 0; p < nparts; ++p) {
+      bodies[p].finish_forces(0.0, g, dt, true);
+      bodies[p].half_kick(dt);
+    }
+  }
+  double moved = 0, worst = 0;
+  std::vector<std::vector<double>> seen(mesh.num_nodes());
+  for (int n = 0; n < mesh.num_nodes(); ++n)
+    for (int d = 0; d < 3; ++d)
+      moved = std::max(moved, std::abs(whole.positions()[3 * n + d] - mesh.X[3 * n + d]));
+  ASSERT_GT(moved, 1e-6); // the body did deform
+  for (int p = 0; p < nparts; ++p)
+    for (int n = 0; n < parts[p].num_nodes(); ++n) {
+      const int gn = parts[p].global_node[n];
+      const double* x = &bodies[p].positions()[3 * n];
+      for (int d = 0; d < 3; ++d)
+        worst = std::max(worst, std::abs(x[d] - whole.positions()[3 * gn + d]));
+      if (seen[gn].empty())
+        seen[gn].assign(x, x + 3);
+      else
+        for (int d = 0; d < 3; ++d)
+          EXPECT_EQ(x[d], seen[gn][d]) << "node " << gn << " part " << p;
+    }
+  EXPECT_LT(worst, 1e-10 * 1.2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, BodyPartition,
+                         ::testing::Values(ElemType::Tet4, ElemType::Tri3, ElemType::Quad4),
+                         [](const auto& info) {
+                           return info.param == ElemType::Tet4   ? std::string("Tet4")
+                                  : info.param == ElemType::Tri3 ? std::string("Tri3")
+                                                                 : std::string("Quad4");
+                         });
