@@ -1,12 +1,18 @@
 // MPI check of a distributed body: each rank steps its METIS part with the neighbour exchange, rank
 // 0 steps the whole body, and the two must agree (positions, energy); shared nodes bit-identical.
 //
-//   mpirun -np P fracdem_dist_check [tet|tri|quad] [STEPS] [CELLS]
+//   mpirun -np P fracdem_dist_check [tet|tri|quad] [STEPS] [CELLS] [check|time|time_replicated]
+//       [corotational|elastic]
 //
-// Prints one line "dist_check ..." on rank 0 and exits 1 when a check fails. Run under the PMPI
+// Prints one line "dist_check ..." on rank 0 and exits 1 when a check fails. `time` skips the
+// whole body (no comparison) and prints the step loop's wall time and the ranks' peak memory
+// instead; `time_replicated` times today's replicated body the same way (every rank holds the
+// whole body, computes a share of the elements, and all-reduces all nodal forces each step, as
+// fix fem/body does without `parallel distributed`): bench/distributed_body.py. Run under the PMPI
 // counter (tests/integration/test_distributed_counts.py) it shows what one step sends: set-up and
 // the final comparison are the same for any STEPS and cancel in the difference of two runs.
 #include <mpi.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +23,7 @@
 
 #include "fem/body.h"
 #include "fem/body_partition.h"
+#include "fem/body_setup.h"
 #include "io/mesh_generators.h"
 #include "node_exchange.h"
 
@@ -33,13 +40,15 @@ Mesh make_mesh(const std::string& kind, int cells)
 }
 
 // A clamped steel body set swinging and twisting: every element strains.
+Kinematics kinematics = Kinematics::Corotational;
+
 void set_up(Body& b, const Mesh& m)
 {
   Material steel;
   steel.E = 2e11;
   steel.nu = 0.3;
   steel.rho = 7800;
-  steel.kinematics = Kinematics::Corotational;
+  steel.kinematics = kinematics;
   b.build(m, steel, false);
   for (int n = 0; n < m.num_nodes(); ++n) {
     const double* X = &m.X[3 * n];
@@ -68,6 +77,40 @@ template <class Sum> double step(Body& b, double dt, Sum sum)
   return energy;
 }
 
+// `time` mode: the slowest rank's loop time and every rank's peak resident memory.
+int report_timing(const char* mode, int rank, int nprocs, const Mesh& mesh, int steps, double loop)
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  double peak_mb = usage.ru_maxrss / 1024.0, peak_max = peak_mb;
+  MPI_Allreduce(MPI_IN_PLACE, &loop, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &peak_max, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  if (rank == 0)
+    std::printf("dist_time mode=%s np=%d steps=%d elements=%d nodes=%d loop_seconds=%.6f "
+                "ms_per_step=%.4f peak_rss_mb_max=%.1f\n",
+                mode, nprocs, steps, mesh.num_elems(), mesh.num_nodes(), loop, 1e3 * loop / steps,
+                peak_max);
+  MPI_Finalize();
+  return 0;
+}
+
+// Today's replicated body: element work split by ranges, nodal forces all-reduced every step.
+int time_replicated(int rank, int nprocs, const Mesh& mesh, int steps)
+{
+  Body body;
+  set_up(body, mesh);
+  split_element_work(body, rank, nprocs);
+  const double dt = 0.5 * body.stable_time_step();
+  const int n3 = 3 * body.num_nodes();
+  MPI_Barrier(MPI_COMM_WORLD);
+  const double t0 = MPI_Wtime();
+  for (int s = 0; s < steps; ++s)
+    step(body, dt, [&](double* f) {
+      if (nprocs > 1) MPI_Allreduce(MPI_IN_PLACE, f, n3, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    });
+  return report_timing("replicated", rank, nprocs, mesh, steps, MPI_Wtime() - t0);
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -79,7 +122,11 @@ int main(int argc, char** argv)
   const std::string kind = argc > 1 ? argv[1] : "tet";
   const int steps = argc > 2 ? std::atoi(argv[2]) : 200;
   const int cells = argc > 3 ? std::atoi(argv[3]) : 4;
+  const std::string mode = argc > 4 ? argv[4] : "check";
+  if (argc > 5 && std::string(argv[5]) == "elastic") kinematics = Kinematics::SmallStrain;
+  const bool timing = mode == "time";
   const Mesh mesh = make_mesh(kind, cells);
+  if (mode == "time_replicated") return time_replicated(rank, nprocs, mesh, steps);
 
   // Set-up: every rank partitions the same mesh the same way and keeps its part.
   const MeshPart part = extract_part(mesh, partition_elements(mesh, nprocs), rank);
@@ -89,13 +136,17 @@ int main(int argc, char** argv)
   std::vector<double> mass = body.masses();
   exchange.sum(mass.data(), 1);
   body.set_masses(mass);
-  Body whole;
-  set_up(whole, mesh);
-  const double dt = 0.5 * whole.stable_time_step();
+  // The stable step of the whole body: the smallest of the parts'.
+  double dt = 0.5 * body.stable_time_step();
+  MPI_Allreduce(MPI_IN_PLACE, &dt, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
 
+  MPI_Barrier(MPI_COMM_WORLD);
+  const double t0 = MPI_Wtime();
   double strain = 0;
   for (int s = 0; s < steps; ++s)
     strain = step(body, dt, [&](double* f) { exchange.sum(f, 3); });
+  double loop = MPI_Wtime() - t0;
+  if (timing) return report_timing("distributed", rank, nprocs, mesh, steps, loop);
 
   // Comparison (after the steps; its traffic does not depend on STEPS).
   double kinetic = 0;
@@ -125,6 +176,8 @@ int main(int argc, char** argv)
   MPI_Allreduce(MPI_IN_PLACE, &interface_pairs, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
   int failed = 0;
   if (rank == 0) {
+    Body whole;
+    set_up(whole, mesh);
     double whole_strain = 0;
     for (int s = 0; s < steps; ++s)
       whole_strain = step(whole, dt, [](double*) {});
