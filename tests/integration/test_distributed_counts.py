@@ -7,9 +7,10 @@ with `NodeExchange` (the per-step sum of shared-node forces), and compares with 
 stepped on rank 0. Asserted:
 
 * np 1, 2, 3, 4 and tet4, tri3, quad4: positions within 1e-10 of the body's size (2e-11 m) of the
-  whole body's and total energy within 1e-10 relative (issue #13, item 3: "energies within 1e-10
-  relative for elastic runs"); a node shared by several parts has the same bits on every one (the
-  program checks and prints `result=ok`);
+  whole body's, total energy, the clamp's reaction and the momentum, each summed over the parts
+  (a part counts the nodes it owns), within 1e-10 relative (issue #13, item 3: "energies within
+  1e-10 relative for elastic runs"); a node shared by several parts has the same bits on every
+  one (the program checks all this and prints `result=ok`);
 * with the PMPI counter at 4 ranks, two runs of N1 and N2 steps: their difference is exactly the
   traffic of N2 - N1 steps. Per step, the ranks together send exactly 3 doubles (24 bytes) per
   (shared node, neighbouring part) pair, the bound of issue #13 item 6 with a constant of zero; each
@@ -48,7 +49,9 @@ def check_agreement():
                                stderr=subprocess.STDOUT, text=True, timeout=300)
             got = parse(r.stdout)
             print(f"np {np_} {kind}: max position difference {got['max_position_difference']} m, "
-                  f"moved {got['moved']} m, energy {got['energy_relative_difference']}, shared "
+                  f"moved {got['moved']} m, energy {got['energy_relative_difference']}, reaction "
+                  f"{got['reaction_relative_difference']}, momentum "
+                  f"{got['momentum_relative_difference']}, shared "
                   f"identical {got['shared_identical']}, {got['max_neighbours']} neighbours max")
             h.check(r.returncode == 0 and got["result"] == "ok",
                     f"np {np_} {kind}: the distributed body follows the whole body ({got['result']})")

@@ -46,6 +46,7 @@ void Body::resize_nodes(int nn)
   parent_.resize(nn, -1);
   mass_.resize(nn, 0.0);
   inv_mass_.resize(nn, 0.0);
+  if (!counted_.empty()) counted_.resize(nn, 1);
 }
 
 void Body::derive_masses()
@@ -72,6 +73,13 @@ void Body::set_masses(const std::vector<double>& mass)
   mass_ = mass;
   for (size_t n = 0; n < mass_.size(); ++n)
     inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+}
+
+void Body::set_counted_nodes(std::vector<std::uint8_t> counted)
+{
+  if (!counted.empty() && static_cast<int>(counted.size()) != num_nodes())
+    throw FeError(-1, "Body::set_counted_nodes: one flag per node expected");
+  counted_ = std::move(counted);
 }
 
 void Body::set_element_range(int begin, int end)
@@ -190,8 +198,10 @@ void Body::half_kick_drift(double dt)
 void Body::shield_drift(int n)
 {
   double* v = &v_[3 * n];
-  shield_work_ -= 0.5 * mass_[n] * v[0] * v[0];
-  ++shield_hits_;
+  if (counted(n)) {
+    shield_work_ -= 0.5 * mass_[n] * v[0] * v[0];
+    ++shield_hits_;
+  }
   v[0] = 0;
   x_[3 * n] = 0; // the drift adds dt * 0
 }
@@ -364,10 +374,13 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
   double dw_contact = 0, dw_gravity = 0;
   contact_force_total_[0] = contact_force_total_[1] = contact_force_total_[2] = 0;
   for (int n = 0; n < nn; ++n) {
+    const bool count = counted(n);
     for (int d = 0; d < 3; ++d) {
       const int k = 3 * n + d;
-      dw_contact += 0.5 * (f_contact_[k] + f_contact_prev_[k]) * v_[k];
-      contact_force_total_[d] += f_contact_[k];
+      if (count) {
+        dw_contact += 0.5 * (f_contact_[k] + f_contact_prev_[k]) * v_[k];
+        contact_force_total_[d] += f_contact_[k];
+      }
       f_[k] += f_contact_[k];
     }
   }
@@ -377,7 +390,7 @@ void Body::finish_forces(double strain_energy, const double gravity[3], double d
       for (int n = 0; n < nn; ++n)
         for (int d = 0; d < 3; ++d) {
           f_[3 * n + d] += mass_[n] * gravity[d];
-          dw_gravity += mass_[n] * gravity[d] * v_[3 * n + d];
+          if (counted(n)) dw_gravity += mass_[n] * gravity[d] * v_[3 * n + d];
         }
   }
   if (count_work) {
@@ -407,7 +420,7 @@ void Body::add_reactions(double dt, bool count_work)
   double dw = 0;
   for (int n = 0; n < num_nodes(); ++n) {
     const int g = bc_group_[n];
-    if (g < 0 || bc_[n] == NodeBc::Free) continue;
+    if (g < 0 || bc_[n] == NodeBc::Free || !counted(n)) continue;
     const double rate = bc_[n] == NodeBc::Prescribed ? ramp_rate(n, time_) : 0.0;
     for (int d = 0; d < 3; ++d)
       if (held_[n] >> d & 1) {
@@ -426,7 +439,7 @@ double Body::kinetic_energy() const
   const int nn = num_nodes();
   for (int n = 0; n < nn; ++n) {
     const double* v = &v_[3 * n];
-    ke += 0.5 * mass_[n] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (counted(n)) ke += 0.5 * mass_[n] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   return ke;
 }
@@ -436,7 +449,7 @@ double Body::momentum(int d) const
   if (rigid_) return 0.0;
   double p = 0;
   for (int n = 0; n < num_nodes(); ++n)
-    p += mass_[n] * v_[3 * n + d];
+    if (counted(n)) p += mass_[n] * v_[3 * n + d];
   return p;
 }
 

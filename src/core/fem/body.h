@@ -62,6 +62,10 @@ public:
   // A part of a distributed body lumps at the nodes it shares only its own elements' mass; the
   // host sums the parts' masses (InterfaceSum, fem/body_partition.h) and sets the totals here.
   void set_masses(const std::vector<double>& mass);
+  // A part of a distributed body counts in its sums over nodes (kinetic energy, momentum,
+  // contact and gravity work, reactions, total contact force, axis shield) only the nodes it
+  // owns, so that the sum over the parts counts a shared node once (MeshPart::owns). Empty: all.
+  void set_counted_nodes(std::vector<std::uint8_t> counted);
 
   // ---- explicit update (velocity Verlet, in step with the host) ----
   void advance_time(double dt) { time_ += dt; }
@@ -125,6 +129,7 @@ public:
   const std::vector<double>& masses() const { return mass_; }
   const std::vector<NodeBc>& conditions() const { return bc_; }
   const std::vector<int>& parents() const { return parent_; } // -1: an original mesh node
+  bool counted(int n) const { return counted_.empty() || counted_[n]; }
   // Force (3 per reaction group) that the constraints applied to the body in the last force
   // evaluation: m a - f summed over the group's held components.
   const std::vector<double>& reactions() const { return reactions_; }
@@ -218,6 +223,7 @@ private:
   bool rigid_ = false;
   RigidMotion motion_;
   std::vector<double> x_, v_, f_, mass_, inv_mass_;
+  std::vector<std::uint8_t> counted_; // set_counted_nodes; empty: all
   std::vector<double> f_contact_, f_contact_prev_, f_pending_;
   std::vector<NodeBc> bc_;
   std::vector<double> v_prescribed_;
