@@ -57,51 +57,74 @@ int element_facet_keys(const Mesh& mesh, int e, std::array<int, 3>* keys)
   return n;
 }
 
+namespace
+{
+// Active elements around each node (CSR), ascending.
+void active_stars(const Mesh& mesh, std::vector<int>& start, std::vector<int>& elems)
+{
+  start.assign(mesh.num_nodes() + 1, 0);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e])
+      for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+        ++start[mesh.conn[e][a] + 1];
+  for (int n = 0; n < mesh.num_nodes(); ++n)
+    start[n + 1] += start[n];
+  elems.resize(start.back());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e])
+      for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+        elems[fill[mesh.conn[e][a]]++] = e;
+}
+
+bool uses_node(const Mesh& mesh, int e, int node)
+{
+  const auto& c = mesh.conn[e];
+  return c[0] == node || c[1] == node || c[2] == node || c[3] == node;
+}
+
+// Another active element has the facet `key` (sorted nodes): it is among the elements around
+// the facet's first node and uses the others too.
+bool facet_shared(const Mesh& mesh, const std::vector<int>& start, const std::vector<int>& elems,
+                  int e, const std::array<int, 3>& key)
+{
+  for (int i = start[key[0]]; i < start[key[0] + 1]; ++i) {
+    const int f = elems[i];
+    if (f != e && uses_node(mesh, f, key[1]) && (key[2] < 0 || uses_node(mesh, f, key[2])))
+      return true;
+  }
+  return false;
+}
+} // namespace
+
+// Each facet is looked up among the elements around its first node (a few to a few dozen)
+// instead of sorting all facets: linear in the mesh, and the result comes out in element order.
 std::vector<Facet> boundary_facets(const Mesh& mesh)
 {
-  struct Entry {
-    std::array<int, 3> key; // sorted node ids (third = -1 for edges)
-    int elem, local;
-  };
-  std::vector<Entry> all;
-  all.reserve(4 * mesh.conn.size());
+  std::vector<int> start, elems;
+  active_stars(mesh, start, elems);
+  std::vector<Facet> out;
   std::array<int, 3> keys[4];
   for (int e = 0; e < mesh.num_elems(); ++e) {
     if (!mesh.active[e]) continue;
+    const auto& c = mesh.conn[e];
     const int nf = element_facet_keys(mesh, e, keys);
-    for (int k = 0; k < nf; ++k)
-      all.push_back({keys[k], e, k});
-  }
-  std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) {
-    return std::tie(a.key, a.elem, a.local) < std::tie(b.key, b.elem, b.local);
-  });
-  std::vector<Facet> out;
-  for (size_t i = 0; i < all.size();) {
-    size_t j = i + 1;
-    while (j < all.size() && all[j].key == all[i].key)
-      ++j;
-    if (j == i + 1) {
-      const Entry& en = all[i];
-      const auto& c = mesh.conn[en.elem];
+    for (int k = 0; k < nf; ++k) {
+      if (facet_shared(mesh, start, elems, e, keys[k])) continue;
       Facet f;
-      f.elem = en.elem;
-      f.local_face = en.local;
-      if (mesh.etype[en.elem] == ElemType::Tet4) {
+      f.elem = e;
+      f.local_face = k;
+      if (mesh.etype[e] == ElemType::Tet4) {
         f.nn = 3;
         for (int q = 0; q < 3; ++q)
-          f.n[q] = c[kTetFaces[en.local][q]];
+          f.n[q] = c[kTetFaces[k][q]];
       } else {
-        const int n = nodes_per_elem(mesh.etype[en.elem]);
         f.nn = 2;
-        f.n = {c[en.local], c[(en.local + 1) % n], -1};
+        f.n = {c[k], c[(k + 1) % nf], -1};
       }
       out.push_back(f);
     }
-    i = j;
   }
-  std::sort(out.begin(), out.end(), [](const Facet& a, const Facet& b) {
-    return std::tie(a.elem, a.local_face) < std::tie(b.elem, b.local_face);
-  });
   return out;
 }
 
