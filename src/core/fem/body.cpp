@@ -247,9 +247,9 @@ void Body::begin_forces()
 double Body::add_internal_forces(int* first_inverted)
 {
   if (rigid_) return 0.0;
-  const double energy =
-      space_.add_internal_forces(mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr,
-                                 first_inverted, state_.data(), &damaged_points_, last_dt_);
+  const double energy = space_.add_internal_forces(
+      mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr, first_inverted, state_.data(),
+      &damaged_points_, last_dt_, &damaged_elems_);
   if (viscosity_.on)
     space_.add_viscous_forces(mesh_, x_.data(), v_.data(), elem_begin_, elem_end_, viscosity_,
                               state_.data(), f_.data(), viscous_force_.data(),
@@ -330,6 +330,17 @@ int Body::element_failures(std::vector<double>& measure, std::vector<double>& no
   measure.resize(ne);
   normal.resize(3 * ne);
   const int per = material_model_info(material_.model).state_per_point;
+  // The last force evaluation listed the damaged elements when it covered the whole body.
+  if (elem_begin_ <= 0 && elem_end_ >= ne) {
+    std::fill(measure.begin(), measure.end(), 0.0);
+    int count = 0;
+    for (int e : damaged_elems_)
+      if (mesh_.active[e]) { // an element eroded since then is left out, as below
+        measure[e] = element_failure(e, &normal[3 * e]);
+        ++count;
+      }
+    return count;
+  }
   int damaged_count = 0;
   for (int e = 0; e < ne; ++e) {
     bool damaged = false;

@@ -239,6 +239,7 @@ private:
   std::vector<double> viscous_work_, viscous_force_prev_, viscous_force_, viscous_rate_;
   NodeStars stars_; // active elements around each node
   int damaged_points_ = 0;
+  std::vector<int> damaged_elems_; // elements with a damaged point at the last force evaluation
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
   double last_dt_ = 0; // step of the last half_kick_drift (material strain rates)

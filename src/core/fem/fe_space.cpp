@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
+#include <vector>
 
 namespace fracdem
 {
@@ -105,8 +107,11 @@ struct RankineLaw {
   double elem_X[12];
   int nnodes = 0;
   double* elem_state = nullptr;
+  int elem = -1;
+  std::vector<int>* damaged_elems = nullptr; // elements with a damaged point, if wanted
   void bind(int e, const std::array<int, 4>& c)
   {
+    elem = e;
     nnodes = c[3] >= 0 ? 4 : 3;
     for (int a = 0; a < nnodes; ++a)
       for (int i = 0; i < 3; ++i)
@@ -118,7 +123,11 @@ struct RankineLaw {
   {
     double* st = elem_state + q * kRankineStateSize;
     const double w2 = 2.0 * rankine_stress(params, mode, e, elem_X, nnodes, st, s);
-    damaged += rankine_damage(st) > 0;
+    if (rankine_damage(st) > 0) {
+      ++damaged;
+      if (damaged_elems && (damaged_elems->empty() || damaged_elems->back() != elem))
+        damaged_elems->push_back(elem);
+    }
     return w2;
   }
 };
@@ -749,8 +758,10 @@ auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_o
 
 double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
                                     double* f, double* elem_energy, int* first_inverted,
-                                    double* state, int* damaged_points, double dt) const
+                                    double* state, int* damaged_points, double dt,
+                                    std::vector<int>* damaged_elems) const
 {
+  if (damaged_elems) damaged_elems->clear();
   e_begin = std::max(e_begin, 0);
   e_end = std::min(e_end, mesh.num_elems());
   if (state_offset_.back() > 0 && !state)
@@ -758,6 +769,8 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   return with_law(mat_, dim_, mesh, state_offset_.data(), state, dt, [&](auto& law) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>)
+      law.damaged_elems = damaged_elems;
     const double energy =
         corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
                                   f, elem_energy, first_inverted)

@@ -52,12 +52,15 @@ public:
   // An element with det F <= 0 sets *first_inverted (if non-null and still < 0); never throws.
   // state: the material's per-point history (state_size() doubles, element e's points from
   // state_offset(e)), advanced by this call; may be null for materials without state.
-  // damaged_points (optional): the number of points with damage > 0 after the call.
+  // damaged_points (optional): the number of points with damage > 0 after the call;
+  // damaged_elems (optional): the elements with such a point, ascending (read while each point's
+  // state is in cache, so the fracture check need not sweep every element's state again).
   // dt: time since the previous evaluation, for rate-dependent materials (0: none known, the
   // material reuses the rate it stored; elastic and Rankine ignore it).
   double add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end, double* f,
                              double* elem_energy, int* first_inverted, double* state = nullptr,
-                             int* damaged_points = nullptr, double dt = 0.0) const;
+                             int* damaged_points = nullptr, double dt = 0.0,
+                             std::vector<int>* damaged_elems = nullptr) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
   // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R
