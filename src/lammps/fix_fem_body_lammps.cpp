@@ -1,5 +1,6 @@
-// fix fem/body under LAMMPS: parses the LIGGGHTS adapter's keyword syntax (the supported part),
-// builds a fracdem::Body from a Gmsh mesh and drives its explicit update from LAMMPS's Verlet.
+// fix fem/body under LAMMPS: parses the LIGGGHTS adapter's keyword syntax, builds the body through
+// the core's fracdem::BodyDriver and drives its step (fracture, erosion, body contact, energy
+// file, restart: the driver's) from LAMMPS's Verlet.
 // Particle contact: the core's ParticleFacetContact, with the law written in LAMMPS's granular
 // syntax (keyword 'contact') and mapped onto the core's ContactMaterial (docs/lammps.md).
 #include "fix_fem_body_lammps.h"
@@ -89,19 +90,24 @@ FixFemBodyLammps::FixFemBodyLammps(LAMMPS* lmp, int narg, char** arg) : Fix(lmp,
   scalar_flag = 1;
   extscalar = 1;
   vector_flag = 1;
-  size_vector = fracdem::kVecSize + 3 * static_cast<int>(spec_.reaction_groups.size());
+  // fracdem::BodyVectorIndex (docs/fix_fem_body.md), 3 reactions per group, BodyVectorTail.
+  size_vector = driver_.vector_size();
   extvector = 0;
   global_freq = 1;
   // time_integrate stays 0: this fix integrates FE nodes, never the host's atoms.
   time_depend = 1;
+  restart_global = 1;
 
   if (law_.on) {
-    // Tangential history per particle: this fix's own per-atom array, grown, copied (sorting)
-    // and migrated (exchange) with the atoms through LAMMPS's callbacks.
+    // Tangential history per particle: this fix's own per-atom array, grown, copied (sorting),
+    // migrated (exchange) and written to restart files with the atoms through LAMMPS's
+    // callbacks.
     create_attribute = 1;
+    restart_peratom = 1;
     maxexchange = spec_.history_slots * fracdem::kHistorySlotDoubles;
     grow_arrays(atom->nmax);
     atom->add_callback(Atom::GROW);
+    atom->add_callback(Atom::RESTART);
     for (int i = 0; i < atom->nlocal; ++i)
       set_arrays(i);
   }
@@ -109,7 +115,10 @@ FixFemBodyLammps::FixFemBodyLammps(LAMMPS* lmp, int narg, char** arg) : Fix(lmp,
 
 FixFemBodyLammps::~FixFemBodyLammps()
 {
-  if (law_.on) atom->delete_callback(id, Atom::GROW);
+  if (law_.on) {
+    atom->delete_callback(id, Atom::GROW);
+    atom->delete_callback(id, Atom::RESTART);
+  }
   memory->destroy(history_);
 }
 
@@ -120,45 +129,12 @@ int FixFemBodyLammps::setmask()
 
 /* ----------------------------------------------------------------------
    argument parsing: fix ID group fem/body file FILE keyword value ...
-   The core's keyword table (fracdem::parse_body_spec) restricted to what this
-   host supports; the contact law in LAMMPS's granular words (keyword 'contact').
+   The core's keyword table (fracdem::parse_body_spec); the contact law in
+   LAMMPS's granular words (keyword 'contact').
 ------------------------------------------------------------------------- */
 
 namespace
 {
-
-// Keywords of the core's table that this host takes (the others are refused by name, so that a
-// LIGGGHTS input never runs silently without them), in the order its messages list them.
-const std::vector<fracdem::BodySpecHost::Supported> kSupported = {{"type"},
-                                                                  {"density"},
-                                                                  {"youngs"},
-                                                                  {"poisson"},
-                                                                  {"model"},
-                                                                  {"material", "elastic"},
-                                                                  {"plane"},
-                                                                  {"thickness"},
-                                                                  {"fixed"},
-                                                                  {"velocity"},
-                                                                  {"prescribed_velocity"},
-                                                                  {"scale"},
-                                                                  {"move"},
-                                                                  {"rotate"},
-                                                                  {"dt_check"},
-                                                                  {"gravity"},
-                                                                  {"contact"},
-                                                                  {"compliance"},
-                                                                  {"buffer"},
-                                                                  {"history_slots"}};
-
-// Only the default material; the others (rankine, j2, ...) come with fracture/history support.
-void parse_material_elastic(fracdem::SpecReader& r, fracdem::BodySpec&)
-{
-  r.need(1, "elastic");
-  if (r.word(1) != "elastic")
-    throw fracdem::SpecError("keyword 'material " + r.word(1) +
-                             "' is not yet supported under LAMMPS (only 'material elastic')");
-  r.take(2);
-}
 
 // The LIGGGHTS adapter's contact-law keywords: under LAMMPS the law is written after 'contact'.
 void refuse_liggghts_law(fracdem::SpecReader& r, fracdem::BodySpec&)
@@ -198,13 +174,13 @@ double contact_value(const fracdem::SpecReader& r, std::size_t j, const char* wh
 
 } // namespace
 
-// The core's table with this host's restrictions and its own 'contact' and 'material'.
+// The core's whole table (the step is the core's BodyDriver, as under LIGGGHTS), but the contact
+// law: LAMMPS's granular words after this host's own 'contact'; the LIGGGHTS adapter's law
+// keywords (contact_model, tangential) are refused naming it.
 void FixFemBodyLammps::parse_arguments(int narg, char** arg)
 {
   fracdem::BodySpecHost host;
   host.name = "LAMMPS";
-  host.supported = kSupported;
-  host.own["material"] = parse_material_elastic;
   host.own["contact_model"] = host.own["tangential"] = refuse_liggghts_law;
   host.own["contact"] = [this](fracdem::SpecReader& r, fracdem::BodySpec&) { parse_contact(r); };
   try {
@@ -394,28 +370,43 @@ void FixFemBodyLammps::log_line(const std::string& line) const
   if (comm->me == 0) utils::logmesg(lmp, line);
 }
 
+// The host's reductions (over world), this rank and its output, for the core's BodyDriver.
+fracdem::BodyHost FixFemBodyLammps::host() const
+{
+  fracdem::BodyHost h;
+  h.rank = comm->me;
+  h.nprocs = comm->nprocs;
+  MPI_Comm w = world;
+  auto reduce = [w](MPI_Op op) {
+    return [w, op](double* a, int n) { MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_DOUBLE, op, w); };
+  };
+  h.sum = reduce(MPI_SUM);
+  h.max = reduce(MPI_MAX);
+  h.min = reduce(MPI_MIN);
+  h.max_int = [w](int* a, int n) { MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_INT, MPI_MAX, w); };
+  LAMMPS* host = lmp;
+  h.print = [host](const std::string& line, bool to_screen, bool to_log) {
+    if (to_screen && host->screen) fputs(line.c_str(), host->screen);
+    if (to_log && host->logfile) fputs(line.c_str(), host->logfile);
+  };
+  Error* err = error;
+  h.warning = [err](const std::string& text) { err->warning(FLERR, text); };
+  h.error_all = [err](const std::string& text) { err->all(FLERR, text); };
+  return h;
+}
+
 void FixFemBodyLammps::load_mesh()
 {
+  driver_.attach(spec_, id, host());
   try {
-    fracdem::build_body(spec_, domain->dimension, body_);
+    driver_.build(domain->dimension);
   } catch (const fracdem::SpecError& e) {
     error->all(FLERR, fracdem::fix_message(e, id));
   }
-  // As in the LIGGGHTS adapter: every rank holds the whole body; the element work of a material
-  // without history is split evenly and the forces summed, so all replicas stay identical.
-  split_element_work_ = fracdem::split_element_work(body_, comm->me, comm->nprocs);
-  if (law_.on) contact_.rebuild_surface(body_.mesh());
-  log_line(fmt::format(
-      "fix fem/body {}: {}, {} nodes, {} elements, {} boundary facets, "
-      "deformable {} (LAMMPS host{})\n",
-      id, spec_.mesh_file, body_.num_nodes(), body_.mesh().num_elems(), contact_.facets().size(),
-      spec_.material.kinematics == fracdem::Kinematics::Corotational ? "corotational"
-                                                                     : "small-strain elastic",
-      law_.on ? "" : ", no particle contact"));
-  if (law_.on) {
-    contact_setup();
-    check_in_box("as placed");
-  }
+  log_line(driver_.describe() +
+           (law_.on ? " (LAMMPS host)\n" : " (LAMMPS host, no particle contact)\n"));
+  if (law_.on) contact_setup();
+  check_in_box("as placed");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -428,63 +419,66 @@ void FixFemBodyLammps::init()
     opt.tangential_history = law_.history;
     // A deformable body carrying its own compliance: Hertz's contact radius from the total
     // approach and the reaction spread as Hertz pressure (as the LIGGGHTS adapter).
-    opt.hertz_patch = !combined();
+    opt.hertz_patch = !spec_.rigid && !combined();
     opt.buffer = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
-    contact_.configure(opt);
-    contact_.set_materials(
-        std::vector<fracdem::ContactMaterial>(atom->ntypes + 1, contact_material_));
+    driver_.configure_contact(
+        opt, std::vector<fracdem::ContactMaterial>(atom->ntypes + 1, contact_material_));
   }
-  check_time_step();
+  if (spec_.contact_bodies > 0) find_contact_partners();
+  const std::string failed = driver_.open_energy_file();
+  if (!failed.empty()) error->one(FLERR, failed);
+  driver_.check_time_step(update->dt);
 }
 
 void FixFemBodyLammps::reset_dt()
 {
-  check_time_step();
+  driver_.check_time_step(update->dt);
 }
 
-void FixFemBodyLammps::check_time_step()
+// This body computes the contact with its own pieces and every later fix fem/body with
+// contact_bodies yes (as the LIGGGHTS adapter). LAMMPS has no per-type friction table: the
+// friction between bodies is the MU of this body's keyword 'contact' (0 without it).
+void FixFemBodyLammps::find_contact_partners()
 {
-  dt_stable_ = body_.stable_time_step();
-  const double dt = update->dt;
-  log_line(fmt::format("fix fem/body {}: {}\n", id, fracdem::time_step_line(dt_stable_, dt)));
-  const std::string violation = fracdem::time_step_violation(dt_stable_, dt, spec_.mesh_file);
-  if (violation.empty()) return;
-  const std::string msg = fmt::format("fix fem/body {}: {}", id, violation);
-  if (spec_.dt_check_error)
-    error->all(FLERR, msg);
-  else if (comm->me == 0)
-    error->warning(FLERR, msg);
+  std::vector<fracdem::BodyDriver*> later, earlier;
+  bool after = false;
+  for (int i = 0; i < modify->nfix; ++i) {
+    auto* other = dynamic_cast<FixFemBodyLammps*>(modify->fix[i]);
+    if (other == this)
+      after = true;
+    else if (other && other->spec_.contact_bodies > 0)
+      (after ? later : earlier).push_back(&other->driver_);
+  }
+  const double mu = law_.on ? law_.mu : 0.0;
+  driver_.set_partners(later, earlier, [mu](int, int) { return mu; });
 }
 
 // The acceleration of every fix gravity (LAMMPS's FixGravity::extract("gvec")), read at set-up:
 // fix gravity sets it in its own init(), which may run after this fix's.
 void FixFemBodyLammps::read_gravity()
 {
-  gravity_[0] = gravity_[1] = gravity_[2] = 0;
-  if (!spec_.apply_gravity) return;
-  for (Fix* f : modify->get_fix_by_style("^gravity")) {
-    int dim = 0;
-    const auto* g = static_cast<const double*>(f->extract("gvec", dim));
-    if (!g || dim != 1)
-      error->all(FLERR, "{} {}: cannot read the acceleration of fix {} (style {})", kStyle, id,
-                 f->id, f->style);
-    for (int d = 0; d < 3; ++d)
-      gravity_[d] += g[d];
+  double g[3] = {0, 0, 0};
+  if (spec_.apply_gravity) {
+    for (Fix* f : modify->get_fix_by_style("^gravity")) {
+      int dim = 0;
+      const auto* gvec = static_cast<const double*>(f->extract("gvec", dim));
+      if (!gvec || dim != 1)
+        error->all(FLERR, "{} {}: cannot read the acceleration of fix {} (style {})", kStyle, id,
+                   f->id, f->style);
+      for (int d = 0; d < 3; ++d)
+        g[d] += gvec[d];
+    }
   }
+  driver_.set_gravity(g);
 }
 
 void FixFemBodyLammps::setup(int /*vflag*/)
 {
-  if (!initial_velocity_applied_) {
-    for (const auto& s : spec_.initial_velocity)
-      body_.set_velocity(fracdem::body_node_set(body_, spec_, s.set, "velocity"), s.v);
-    body_.impose_velocity_conditions();
-  }
-  initial_velocity_applied_ = true;
+  driver_.start_run();
   read_gravity();
+  check_in_box("at the start of the run"); // restart, change_box and earlier runs move it
   if (law_.on) {
-    check_in_box("at the start of the run"); // change_box and earlier runs move it
-    contact_.invalidate_search();
+    driver_.contact().invalidate_search();
   } else if (!warned_no_contact_ && group->count(igroup) > 0) {
     warned_no_contact_ = true;
     if (comm->me == 0)
@@ -495,14 +489,15 @@ void FixFemBodyLammps::setup(int /*vflag*/)
                      id, group->names[igroup]);
   }
   compute_forces();
+  driver_.log_memory();
+  driver_.write_energy_row_if_due(update->ntimestep);
 }
 
 // Atoms change rank and index when LAMMPS re-neighbours, and particles outside the box are
 // dropped then: the search is rebuilt and the body checked.
 void FixFemBodyLammps::pre_neighbor()
 {
-  if (!law_.on) return;
-  contact_.invalidate_search();
+  driver_.contact().invalidate_search();
   check_in_box(nullptr);
 }
 
@@ -513,9 +508,8 @@ void FixFemBodyLammps::pre_neighbor()
 
 void FixFemBodyLammps::initial_integrate(int /*vflag*/)
 {
-  body_.advance_time(update->dt);
-  body_.half_kick_drift(update->dt);
-  if (law_.on && update->ntimestep % kBoxCheckEvery == 0) check_in_box(nullptr);
+  driver_.begin_step(update->dt);
+  if (update->ntimestep % kBoxCheckEvery == 0) check_in_box(nullptr);
 }
 
 void FixFemBodyLammps::post_force(int /*vflag*/)
@@ -523,9 +517,10 @@ void FixFemBodyLammps::post_force(int /*vflag*/)
   compute_forces();
 }
 
+// Second half kick, fracture check and energy row (the driver's).
 void FixFemBodyLammps::final_integrate()
 {
-  body_.half_kick(update->dt);
+  driver_.end_step(update->ntimestep, update->dt);
 }
 
 fracdem::ParticleArrays FixFemBodyLammps::particle_arrays() const
@@ -550,71 +545,14 @@ fracdem::ParticleArrays FixFemBodyLammps::particle_arrays() const
   return p;
 }
 
-// The force evaluation of the LIGGGHTS adapter: internal forces of this rank's elements and
-// contact forces of this rank's particles (owned atoms: the body is replicated, so no ghosts are
+// The driver's force evaluation: internal forces of this rank's elements, body-body contact,
+// contact of this rank's particles (owned atoms: the body is replicated, so no ghosts are
 // needed), one reduction, then the body finishes (gravity, reactions, work).
 void FixFemBodyLammps::compute_forces()
 {
-  const int nn = body_.num_nodes();
-  body_.begin_forces();
-  int first_inverted = -1;
-  const double local_energy = body_.add_internal_forces(&first_inverted);
-  fracdem::ParticleFacetResult res;
-  if (law_.on) {
-    res = contact_.evaluate(particle_arrays(), body_.mesh().X.data(), body_.positions().data(),
-                            body_.velocities().data(), update->dt, body_.contact_forces());
-    if (res.history_exhausted && !warned_slots_) {
-      error->warning(FLERR,
-                     "fix fem/body {}: a particle has more simultaneous facet contacts "
-                     "than 'history_slots'; extra contacts run without tangential history",
-                     id);
-      warned_slots_ = true;
-    }
-  }
-  // energy, contacts, unresolved contacts (summed); first inverted element + 1 (max)
-  double scalars[4] = {local_energy, static_cast<double>(res.contacts),
-                       res.unresolved_speed > 0 ? 1.0 : 0.0,
-                       static_cast<double>(first_inverted >= 0 ? first_inverted + 1 : 0)};
-  if (split_element_work_) {
-    MPI_Allreduce(MPI_IN_PLACE, body_.forces_data(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
-    if (law_.on)
-      MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, scalars, 3, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, &scalars[3], 1, MPI_DOUBLE, MPI_MAX, world);
-  } else if (comm->nprocs > 1 && law_.on) { // element work replicated: contact shares summed
-    MPI_Allreduce(MPI_IN_PLACE, body_.contact_forces(), 3 * nn, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(MPI_IN_PLACE, &scalars[1], 2, MPI_DOUBLE, MPI_SUM, world);
-  }
-  ncontacts_ = static_cast<int>(scalars[1]);
-  if (scalars[2] > 0 && !warned_unresolved_) warn_unresolved_contact(res);
-  if (scalars[3] > 0)
-    error->all(FLERR,
-               "fix fem/body {}: element {} inverted (det F <= 0) at step {}; the time step "
-               "is too large or the load too severe for this mesh",
-               id, static_cast<int>(scalars[3]) - 1, update->ntimestep);
-  if (!std::isfinite(scalars[0]))
-    error->all(FLERR,
-               "fix fem/body {}: non-finite strain energy at step {} (NaN/Inf in the body "
-               "state)",
-               id, update->ntimestep);
-  body_.finish_forces(scalars[0], gravity_, update->dt, update->setupflag == 0);
-}
-
-// Once per run: a particle hits the body faster than the time step can follow (every rank
-// enters; the worst speed and the time step that resolves it come from all ranks).
-void FixFemBodyLammps::warn_unresolved_contact(const fracdem::ParticleFacetResult& res)
-{
-  warned_unresolved_ = true;
-  double speed = res.unresolved_speed, dt_ok = res.resolving_dt;
-  MPI_Allreduce(MPI_IN_PLACE, &speed, 1, MPI_DOUBLE, MPI_MAX, world);
-  MPI_Allreduce(MPI_IN_PLACE, &dt_ok, 1, MPI_DOUBLE, MPI_MIN, world);
-  if (comm->me == 0)
-    error->warning(FLERR,
-                   "fix fem/body {}: at step {} a particle approaches the surface at {:g} m/s, "
-                   "more than {:g} % of its Hertz penetration per time step; the contact is not "
-                   "resolved in time and may gain or lose energy: timestep {:g} or smaller "
-                   "resolves it",
-                   id, update->ntimestep, speed, 100 * fracdem::kMaxApproachPerStep, dt_ok);
+  const fracdem::ParticleArrays particles = law_.on ? particle_arrays() : fracdem::ParticleArrays{};
+  driver_.compute_forces(law_.on ? &particles : nullptr, update->ntimestep, update->dt,
+                         update->setupflag == 0);
 }
 
 /* ----------------------------------------------------------------------
@@ -636,22 +574,28 @@ std::string FixFemBodyLammps::box_violation() const
   }
   box.dimension = domain->dimension;
   box.slack = spec_.buffer >= 0 ? spec_.buffer : neighbor->skin;
-  return fracdem::body_box_violation(contact_.facets(), body_.positions().data(), box);
+  return fracdem::body_box_violation(driver_.contact().facets(), body().positions().data(), box);
 }
 
-// A body placed outside is an input mistake: refused. A deformable body that gets out by its own
-// dynamics is warned about once: only the part outside is out of the particles' reach.
+// A body placed outside, or a rigid body outside (carried there by its prescribed motion, or
+// left there by 'change_box'), is an input mistake: refused. A deformable body that gets out by
+// its own dynamics is warned about once: only the part outside is out of the particles' reach.
 // when: "as placed" (fix command), "at the start of the run", or nullptr: at this step.
 void FixFemBodyLammps::check_in_box(const char* when)
 {
   const bool placed = when && !strcmp(when, "as placed");
-  if (!placed && warned_outside_) return;
+  if (!placed && !spec_.rigid && warned_outside_) return;
   const std::string where = box_violation();
   if (where.empty()) return;
-  const std::string msg =
+  std::string msg =
       fmt::format("{} {}: mesh '{}' {}: ", kStyle, id, spec_.mesh_file,
                   when ? std::string(when) : fmt::format("at step {}", update->ntimestep));
   if (placed) error->all(FLERR, msg + where + " (keywords 'move', 'scale', 'rotate' place it)");
+  if (spec_.rigid) {
+    if (spec_.motion.kind != fracdem::RigidMotion::None)
+      msg += "its prescribed 'motion' has carried it out of the box: ";
+    error->all(FLERR, msg + where);
+  }
   warned_outside_ = true;
   if (comm->me == 0)
     error->warning(FLERR, msg + "its nodes have moved out of the box: " + where +
@@ -662,26 +606,34 @@ void FixFemBodyLammps::check_in_box(const char* when)
 
 double FixFemBodyLammps::compute_scalar()
 {
-  return body_.kinetic_energy() + body_.strain_energy();
+  return driver_.scalar();
 }
 
-// The core's entries of the global vector, and this fix's own (contacts, stable step, search).
+// The core's entries of the global vector, the reactions and the erosion / shield tail.
 double FixFemBodyLammps::compute_vector(int i)
 {
-  switch (i) {
-  case fracdem::kVecContacts:
-    return ncontacts_;
-  case fracdem::kVecStableDt:
-    return dt_stable_;
-  case fracdem::kVecSearchRebuilds: {
-    double local = contact_.search_rebuilds(), total = 0;
-    MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_MAX, world);
-    return total;
-  }
-  }
-  double value = 0.0;
-  fracdem::body_vector_entry(body_, i, static_cast<int>(spec_.reaction_groups.size()), value);
-  return value;
+  return driver_.vector_entry(i);
+}
+
+/* ----------------------------------------------------------------------
+   restart: the core's record (fracdem::BodyDriver::restart_record), the
+   same bytes as the LIGGGHTS adapter writes; the mesh is re-read from the
+   same file when the input re-creates the fix
+------------------------------------------------------------------------- */
+
+void FixFemBodyLammps::write_restart(FILE* fp)
+{
+  if (comm->me != 0) return;
+  const std::vector<double> buf = driver_.restart_record();
+  // LAMMPS reads the size in bytes, then that many bytes.
+  const int nbytes = static_cast<int>(buf.size() * sizeof(double));
+  fwrite(&nbytes, sizeof(int), 1, fp);
+  fwrite(buf.data(), sizeof(double), buf.size(), fp);
+}
+
+void FixFemBodyLammps::restart(char* raw)
+{
+  driver_.read_restart(reinterpret_cast<const double*>(raw));
 }
 
 /* ----------------------------------------------------------------------
@@ -720,10 +672,45 @@ int FixFemBodyLammps::unpack_exchange(int nlocal, double* buf)
   return n;
 }
 
-// The per-particle history; the body itself is logged by the core's own count.
+// Per-atom history in a restart file (with keyword 'contact'): its length, then the slots.
+int FixFemBodyLammps::pack_restart(int i, double* buf)
+{
+  const int n = spec_.history_slots * fracdem::kHistorySlotDoubles;
+  buf[0] = n + 1;
+  std::memcpy(buf + 1, history_[i], sizeof(double) * n);
+  return n + 1;
+}
+
+void FixFemBodyLammps::unpack_restart(int nlocal, int nth)
+{
+  double** extra = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; ++k)
+    m += static_cast<int>(extra[nlocal][m]);
+  const int n = static_cast<int>(extra[nlocal][m]) - 1;
+  if (n != spec_.history_slots * fracdem::kHistorySlotDoubles) {
+    set_arrays(nlocal); // written with another history_slots: the contacts start afresh
+    return;
+  }
+  std::memcpy(history_[nlocal], &extra[nlocal][m + 1], sizeof(double) * n);
+}
+
+int FixFemBodyLammps::size_restart(int)
+{
+  return spec_.history_slots * fracdem::kHistorySlotDoubles + 1;
+}
+
+int FixFemBodyLammps::maxsize_restart()
+{
+  return spec_.history_slots * fracdem::kHistorySlotDoubles + 1;
+}
+
+// The body (replicated on every rank), its contact structures and the per-particle history.
 double FixFemBodyLammps::memory_usage()
 {
-  if (!law_.on) return 0.0;
-  return static_cast<double>(atom->nmax) * spec_.history_slots * fracdem::kHistorySlotDoubles *
-         sizeof(double);
+  double bytes = static_cast<double>(driver_.memory_bytes());
+  if (law_.on)
+    bytes += static_cast<double>(atom->nmax) * spec_.history_slots * fracdem::kHistorySlotDoubles *
+             sizeof(double);
+  return bytes;
 }

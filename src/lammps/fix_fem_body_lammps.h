@@ -1,6 +1,6 @@
-// fix fem/body under LAMMPS (preview): a deformable finite-element body integrated in step with
-// LAMMPS and hit by atom_style sphere particles; the physics is the core's fracdem::Body and
-// fracdem::ParticleFacetContact, as in the LIGGGHTS adapter.
+// fix fem/body under LAMMPS: a finite-element body integrated in step with LAMMPS and hit by
+// atom_style sphere particles; its step is the core's fracdem::BodyDriver, as in the LIGGGHTS
+// adapter.
 #pragma once
 
 #include <string>
@@ -8,8 +8,7 @@
 
 #include "fix.h"
 
-#include "contact/particle_facet.h"
-#include "fem/body.h"
+#include "fem/body_driver.h"
 #include "fem/body_setup.h"
 #include "fem/body_spec.h"
 
@@ -37,15 +36,23 @@ public:
   void set_arrays(int) override;
   int pack_exchange(int, double*) override;
   int unpack_exchange(int, double*) override;
+  int pack_restart(int, double*) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
   double memory_usage() override;
 
   double compute_scalar() override;
   double compute_vector(int) override;
 
-  const fracdem::Body& body() const { return body_; }
+  // The body's state and topology (the core's record, as the LIGGGHTS adapter writes it).
+  void write_restart(FILE*) override;
+  void restart(char*) override;
+
+  const fracdem::Body& body() const { return driver_.body(); }
   // Particle contact: per local particle, its facet checks and contacts in the last evaluation
   // (empty without `contact`); read by compute fracdem/cost.
-  const fracdem::ParticleFacetContact& contact() const { return contact_; }
+  const fracdem::ParticleFacetContact& contact() const { return driver_.contact(); }
 
 private:
   // The contact law as written after keyword 'contact' (LAMMPS's granular syntax, the supported
@@ -62,11 +69,12 @@ private:
   bool combined() const { return spec_.compliance_combined > 0; }
 
   // The core's keyword table (fracdem::parse_body_spec), restricted to this host, and its checks.
+  fracdem::BodyHost host() const;
   void parse_arguments(int narg, char** arg);
   void load_mesh();
   void log_line(const std::string& line) const;
-  void check_time_step();
   void read_gravity();
+  void find_contact_partners();
   void compute_forces();
   // keyword 'contact' and its parts (each returns the index of the word after it)
   void parse_contact(fracdem::SpecReader& r);
@@ -77,7 +85,6 @@ private:
   std::size_t parse_contact_unsupported(const fracdem::SpecReader& r, std::size_t j);
   void contact_setup();
   fracdem::ParticleArrays particle_arrays() const;
-  void warn_unresolved_contact(const fracdem::ParticleFacetResult& res);
   std::string box_violation() const;
   void check_in_box(const char* when);
 
@@ -86,19 +93,12 @@ private:
   ContactLaw law_;
   fracdem::ContactMaterial contact_material_;
 
-  // ---- the body, replicated on every rank ----
-  fracdem::Body body_;
-  bool split_element_work_ = false; // element work shared among ranks (else replicated)
-  double gravity_[3] = {0, 0, 0};
-  double dt_stable_ = 0;
-  bool initial_velocity_applied_ = false;
+  // ---- the body (replicated on every rank), its step and its contact surfaces ----
+  fracdem::BodyDriver driver_;
 
   // ---- particle contact ----
-  fracdem::ParticleFacetContact contact_;
   double** history_ = nullptr; // per atom: history_slots records of fracdem::kHistorySlotDoubles
-  int ncontacts_ = 0;
-  bool warned_slots_ = false, warned_unresolved_ = false, warned_outside_ = false;
-  bool warned_no_contact_ = false;
+  bool warned_outside_ = false, warned_no_contact_ = false;
 };
 
 } // namespace LAMMPS_NS

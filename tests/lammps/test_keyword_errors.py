@@ -1,5 +1,5 @@
-"""Under LAMMPS, fix fem/body refuses what it does not support by name: unknown keywords, keywords
-of the LIGGGHTS adapter that are not yet supported here, and bad values (as the LIGGGHTS adapter);
+"""Under LAMMPS, fix fem/body refuses what it does not support by name: unknown keywords, the
+LIGGGHTS adapter's contact-law keywords, and bad values of every keyword (as the LIGGGHTS adapter);
 the contact law after 'contact' (LAMMPS's granular syntax): typos, models the core's law cannot
 express, a missing damping or tangential model, a body outside the box, atom_style atomic.
 """
@@ -19,13 +19,20 @@ h.make_box_mesh(os.path.join(wd, "block.msh"), (2, 2, 2), (0.1, 0.1, 0.1))
 BODY = "fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3"
 cases = [
     (BODY + " colour red", "fix fem/body: unknown keyword 'colour'"),
-    (BODY + " fracture nodal", "keyword 'fracture' is not yet supported under LAMMPS"),
-    (BODY + " rigid yes", "keyword 'rigid' is not yet supported under LAMMPS"),
-    (BODY + " energy_file e.csv 10", "keyword 'energy_file' is not yet supported under LAMMPS"),
+    # The keywords of fracture, plasticity, erosion, rigid bodies and the energy file are the
+    # LIGGGHTS adapter's, checked by the same core code.
+    (BODY + " fracture nodal", "keyword 'fracture' needs a material that fails"),
+    (BODY + " rigid yes material rankine strength 3e6 fracture_energy 100",
+     "keywords 'material' and 'fracture' apply to deformable bodies"),
+    (BODY + " energy_file e.csv 0", "keyword 'energy_file' needs N > 0"),
+    (BODY + " energy_file nodir/e.csv 10", "keyword 'energy_file': cannot open 'nodir/e.csv'"),
+    (BODY + " material rankine strength 3e6", "keyword 'material rankine': strength and "
+                                              "fracture_energy are required"),
+    (BODY + " material rankine strength 3e8 fracture_energy 1",
+     "keyword 'material rankine': element 0 of mesh 'block.msh' is"),
+    (BODY + " erosion_mass remove", "keyword 'erosion_mass' applies to bodies that erode"),
     (BODY + " contact_model hooke", "keyword 'contact_model' is the LIGGGHTS adapter's"),
     (BODY + " tangential history", "keyword 'tangential' is the LIGGGHTS adapter's"),
-    (BODY + " material rankine strength 3e6 fracture_energy 100",
-     "keyword 'material rankine' is not yet supported under LAMMPS"),
     (BODY + " model plastic", "keyword 'model' got 'plastic'"),
     (BODY + " fixed top", "no physical group 'top'"),
     (BODY + " gravity maybe", "keyword 'gravity' expects yes or no"),

@@ -1,0 +1,786 @@
+// BodyDriver: the per-step orchestration of a fix fem/body body, shared by the host adapters.
+#include "fem/body_driver.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdarg>
+#include <stdexcept>
+
+#include "contact/contact_resolution.h"
+#include "fem/body_setup.h"
+#include "fem/erosion.h"
+#include "materials/rankine.h"
+
+namespace fracdem
+{
+
+namespace
+{
+
+// printf into a string (the adapters' texts were written with printf formats).
+std::string format(const char* fmt, ...)
+{
+  char buf[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  return buf;
+}
+
+// The adapter's head of the restart record, before the body's own (Body::pack_state): this
+// marker (a body record starts with its version, 1 or 2), the number of doubles that follow in
+// the head, then rigid (0 / 1), the number of placement transforms and 5 doubles per transform
+// (kind, a[4]). Records written without the head start with the body record and are read as
+// before. After the transforms the head may hold sections (tag, number of doubles, doubles); a
+// reader skips the head by its length, so one that knows no sections reads the placement as
+// before. kSelfContactSection: the contact state of the body's pieces
+// (SurfaceContact::pack_state), written only where there is some, so a body without piece
+// contact writes the same bytes.
+constexpr double kRecordHead = -1.0;
+constexpr double kSelfContactSection = 1.0;
+
+// The placement keywords as the input writes them.
+std::string placement_text(bool rigid, const std::vector<MeshTransform>& transforms)
+{
+  std::string text = rigid ? "rigid yes" : "rigid no";
+  for (const MeshTransform& t : transforms) {
+    if (t.kind == MeshTransform::Scale)
+      text += format(" scale %g", t.a[0]);
+    else if (t.kind == MeshTransform::Move)
+      text += format(" move %g %g %g", t.a[0], t.a[1], t.a[2]);
+    else
+      text +=
+          format(" rotate axis %g %g %g angle %g", t.a[0], t.a[1], t.a[2], t.a[3] * 180.0 / M_PI);
+  }
+  return text;
+}
+
+bool same_placement(const std::vector<MeshTransform>& a, const std::vector<MeshTransform>& b)
+{
+  if (a.size() != b.size()) return false;
+  for (size_t k = 0; k < a.size(); ++k) {
+    if (a[k].kind != b[k].kind) return false;
+    for (int i = 0; i < 4; ++i)
+      if (std::fabs(a[k].a[i] - b[k].a[i]) > 1e-12 * std::max(1.0, std::fabs(a[k].a[i])))
+        return false;
+  }
+  return true;
+}
+
+} // namespace
+
+BodyHost serial_host(std::function<void(const std::string&)> out)
+{
+  BodyHost h;
+  h.sum = h.max = h.min = [](double*, int) {};
+  h.max_int = [](int*, int) {};
+  h.print = [out](const std::string& s, bool, bool) {
+    if (out) out(s);
+  };
+  h.warning = [out](const std::string& s) {
+    if (out) out("WARNING: " + s);
+  };
+  h.error_all = [](const std::string& s) { throw std::runtime_error(s); };
+  return h;
+}
+
+BodyDriver::~BodyDriver()
+{
+  if (energy_fp_) std::fclose(energy_fp_);
+}
+
+void BodyDriver::attach(const BodySpec& spec, const std::string& fix_id, BodyHost host)
+{
+  spec_ = &spec;
+  id_ = fix_id;
+  host_ = std::move(host);
+}
+
+void BodyDriver::fail(const std::string& text) const
+{
+  host_.error_all(text);
+  throw std::runtime_error(text); // error_all must not return
+}
+
+void BodyDriver::print(const std::string& line, bool screen, bool logfile) const
+{
+  if (host_.rank == 0) host_.print(line, screen, logfile);
+}
+
+void BodyDriver::warn(const std::string& text) const
+{
+  if (host_.rank == 0) host_.warning(text);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void BodyDriver::build(int dimension)
+{
+  dimension_ = dimension;
+  build_body(*spec_, dimension, body_);
+  // Every rank holds the whole body (replicated). The element work of a material without
+  // history is split evenly; one with history (softening, cracks, the viscous work of the bulk
+  // viscosity) is advanced on every rank, so that every replica holds the whole material state
+  // (fracture decisions, restart, energy accounts). So is an eroding body's, so that every
+  // replica sees every inverted element and erodes the same elements.
+  split_element_work_ =
+      fracdem::split_element_work(body_, host_.rank, host_.nprocs, spec_->erosion.on());
+  rebuild_surfaces();
+  check_crack_band();
+}
+
+// The softening law snaps back in elements wider than 2 E G_f / f_t^2: refuse them by name.
+void BodyDriver::check_crack_band()
+{
+  if (spec_->material.model != MaterialModel::Rankine) return;
+  const double limit = rankine_snapback_length(spec_->material.rankine());
+  const Mesh& mesh = body_.mesh();
+  int worst = -1;
+  double hmax = 0;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    const double h = element_diameter(mesh, e);
+    if (h > hmax) {
+      hmax = h;
+      worst = e;
+    }
+  }
+  if (hmax >= limit)
+    fail(format("fix fem/body %s: keyword 'material rankine': element %d of mesh '%s' is %g wide, "
+                "above the snap-back limit 2 E G_f / f_t^2 = %g of its softening law; refine the "
+                "mesh to elements below %g (or raise fracture_energy / lower strength)",
+                id_.c_str(), worst, spec_->mesh_file.c_str(), hmax, limit, limit));
+}
+
+std::string BodyDriver::describe() const
+{
+  const BodySpec& s = *spec_;
+  std::string viscosity;
+  if (s.viscosity.on) viscosity = format(", bulk viscosity %g %g", s.viscosity.q1, s.viscosity.q2);
+  const char* kind =
+      s.rigid ? ""
+              : (s.material.kinematics == Kinematics::Corotational ? "corotational"
+                                                                   : "small-strain elastic");
+  return format("fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s%s",
+                id_.c_str(), s.mesh_file.c_str(), body_.num_nodes(), body_.mesh().num_elems(),
+                contact_.facets().size(), s.rigid ? "rigid" : "deformable ", kind,
+                viscosity.c_str());
+}
+
+/* ----------------------------------------------------------------------
+   set-up of a run
+------------------------------------------------------------------------- */
+
+void BodyDriver::configure_contact(const ParticleFacetOptions& options,
+                                   std::vector<ContactMaterial> mats)
+{
+  contact_.configure(options);
+  contact_.set_materials(std::move(mats));
+}
+
+// Penalty and friction of the contact between this surface and one of a body of modulus
+// other_E: the softer body's modulus.
+SurfaceContactOptions BodyDriver::surface_options(int, double other_E, double friction) const
+{
+  SurfaceContactOptions so;
+  so.youngs = std::min(spec_->material.E, other_E);
+  so.penalty_scale = spec_->contact_penalty;
+  so.thickness = dimension_ == 2 ? spec_->material.thickness : 1.0;
+  so.axisymmetric = body_.space().axisymmetric();
+  so.friction = friction;
+  return so;
+}
+
+// This body handles its own pieces and every later body with contact_bodies yes.
+void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
+                              const std::vector<BodyDriver*>& earlier,
+                              const std::function<double(int, int)>& friction)
+{
+  const int my_type = spec_->surface_type;
+  self_contact_.configure(surface_options(my_type, spec_->material.E, friction(my_type, my_type)));
+  partners_.clear();
+  partners_.reserve(later.size());
+  for (BodyDriver* other : later) {
+    partners_.emplace_back();
+    partners_.back().other = other;
+    const int t = other->spec_->surface_type;
+    const auto so = surface_options(t, other->spec_->material.E, friction(my_type, t));
+    partners_.back().mine_on_theirs.configure(so);
+    partners_.back().theirs_on_mine.configure(so);
+  }
+  partner_of_ = earlier;
+  rebuild_surfaces();
+}
+
+void BodyDriver::set_gravity(const double g[3])
+{
+  const bool on = spec_->apply_gravity && !spec_->rigid;
+  for (int d = 0; d < 3; ++d)
+    gravity_[d] = on ? g[d] : 0.0;
+}
+
+// With 'erosion min_dt DT' the elements below DT leave at the first force evaluation: the step
+// that counts is that of the others.
+void BodyDriver::check_time_step(double dt)
+{
+  if (spec_->rigid) return;
+  dt_stable_ = stable_time_step_after_erosion(body_, spec_->erosion);
+  print(prefix() + time_step_line(dt_stable_, dt) +
+        (spec_->erosion.min_dt > 0 ? " without the elements below erosion min_dt\n" : "\n"));
+  const std::string violation = time_step_violation(dt_stable_, dt, spec_->mesh_file);
+  if (violation.empty()) return;
+  if (spec_->dt_check_error) fail(prefix() + violation);
+  warn(prefix() + violation);
+}
+
+std::string BodyDriver::open_energy_file()
+{
+  if (spec_->energy_file.empty() || host_.rank != 0 || energy_fp_) return "";
+  energy_fp_ = std::fopen(spec_->energy_file.c_str(), "w");
+  if (!energy_fp_)
+    return "fix fem/body: keyword 'energy_file': cannot open '" + spec_->energy_file +
+           "' for writing";
+  // The material's dissipation: cracking, or the plastic work of a plastic material (which
+  // does not crack); the bulk viscosity's work has a column of its own.
+  std::fprintf(energy_fp_,
+               "step,time,kinetic,strain,external_work,contact_work,total,nodes,elements,"
+               "%s,split_nodes,fragments,boundary_work%s%s%s",
+               spec_->material.plastic_model() ? "plastic_work" : "fracture_energy",
+               spec_->viscosity.on ? ",viscous_work" : "",
+               can_erode() ? ",eroded_elements,eroded_mass,eroded_energy" : "",
+               body_.space().axisymmetric() ? ",shield_work" : "");
+  for (const std::string& g : spec_->reaction_groups)
+    std::fprintf(energy_fp_, ",reaction_%s_x,reaction_%s_y,reaction_%s_z", g.c_str(), g.c_str(),
+                 g.c_str());
+  for (const std::string& g : spec_->reaction_groups)
+    std::fprintf(energy_fp_, ",displacement_%s_x,displacement_%s_y,displacement_%s_z", g.c_str(),
+                 g.c_str(), g.c_str());
+  std::fputc('\n', energy_fp_);
+  return "";
+}
+
+void BodyDriver::start_run()
+{
+  if (!velocities_applied_ && !restarted_) {
+    for (const auto& s : spec_->initial_velocity)
+      body_.set_velocity(body_node_set(body_, *spec_, s.set, "velocity"), s.v);
+    body_.impose_velocity_conditions();
+  }
+  velocities_applied_ = true;
+  if (spec_->rigid) body_.move_rigid();
+}
+
+/* ----------------------------------------------------------------------
+   memory
+------------------------------------------------------------------------- */
+
+template <typename T> static double vector_bytes(const std::vector<T>& v)
+{
+  return static_cast<double>(v.capacity() * sizeof(T));
+}
+
+// Particle-facet contact keeps its arrays private; they are estimated from its facet and node
+// counts (particle_facet.cpp, contact_resolution.cpp): per facet the facet, its reference normal
+// and about 1.5 edges in the edge map (an unordered_map node with a short vector); per node two
+// doubles (surface area, indentation) and a neighbour list. The body-contact surface is public.
+std::size_t BodyDriver::memory_bytes() const
+{
+  const double nf = static_cast<double>(contact_.facets().capacity());
+  const double nn = body_.num_nodes();
+  double bytes = nf * (sizeof(Facet) + 3 * sizeof(double) + 1.5 * 96) +
+                 nn * (2 * sizeof(double) + sizeof(std::vector<int>)) +
+                 6 * sizeof(int) * contact_.facets().size();
+  bytes += vector_bytes(surface_.facets) + vector_bytes(surface_.nodes) +
+           vector_bytes(surface_.incident_offset) + vector_bytes(surface_.incident) +
+           vector_bytes(surface_.reach);
+  return static_cast<std::size_t>(static_cast<double>(body_.memory_bytes()) + bytes);
+}
+
+// One line per body and run, beside the host's memory line: every rank holds the whole body,
+// so a large body is most of a rank's memory.
+void BodyDriver::log_memory()
+{
+  double bytes = static_cast<double>(memory_bytes());
+  host_.max(&bytes, 1);
+  print(format("fix fem/body %s: %d nodes, %d elements, %.4g MB per rank\n", id_.c_str(),
+               body_.num_nodes(), body_.mesh().num_active_elems(), bytes / (1024.0 * 1024.0)));
+}
+
+/* ----------------------------------------------------------------------
+   the step: velocity Verlet in step with the host (half kick + drift,
+   forces, half kick), then fracture and the energy row
+------------------------------------------------------------------------- */
+
+void BodyDriver::begin_step(double dt)
+{
+  body_.advance_time(dt);
+  if (spec_->rigid)
+    body_.move_rigid();
+  else
+    body_.half_kick_drift(dt);
+}
+
+void BodyDriver::end_step(std::int64_t step, double dt)
+{
+  if (spec_->rigid) return;
+  body_.half_kick(dt);
+  if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
+  write_energy_row_if_due(step);
+}
+
+void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t step, double dt,
+                                bool count_work)
+{
+  const int nn = body_.num_nodes();
+  body_.begin_forces();
+
+  // Local shares: internal forces of this rank's elements, contact forces of this rank's
+  // particles; one reduction makes every replica identical.
+  int first_inverted = -1;
+  const double local_energy = internal_forces(step, dt, first_inverted);
+  // Contact between the body's pieces and with other bodies: taken once, on rank 0, into the
+  // contact forces that the ranks sum.
+  if (spec_->contact_bodies > 0 && host_.rank == 0) body_contacts(dt);
+  ParticleFacetResult res;
+  if (particles) {
+    res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
+                            body_.velocities().data(), dt, body_.contact_forces());
+    if (res.history_exhausted && !warned_slots_) {
+      host_.warning("fix fem/body: a particle has more simultaneous facet contacts than "
+                    "'history_slots'; extra contacts run without tangential history");
+      warned_slots_ = true;
+    }
+  }
+
+  // energy, contacts, unresolved contacts (summed); first inverted element + 1 (max)
+  double scalars[4] = {local_energy, static_cast<double>(res.contacts),
+                       res.unresolved_speed > 0 ? 1.0 : 0.0,
+                       static_cast<double>(first_inverted >= 0 ? first_inverted + 1 : 0)};
+  if (split_element_work_) {
+    host_.sum(body_.forces_data(), 3 * nn);
+    host_.sum(body_.contact_forces(), 3 * nn);
+    host_.sum(scalars, 3);
+    host_.max(&scalars[3], 1);
+  } else if (host_.nprocs > 1) { // element work replicated: only the contact shares are summed
+    host_.sum(body_.contact_forces(), 3 * nn);
+    host_.sum(&scalars[1], 2);
+  }
+  ncontacts_ = static_cast<int>(scalars[1]);
+  if (scalars[2] > 0 && !warned_unresolved_) warn_unresolved_contact(step, res);
+  if (scalars[3] > 0)
+    fail(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
+                "; the time step is too large or the load too severe for this mesh",
+                id_.c_str(), static_cast<int>(scalars[3]) - 1, step));
+  if (!std::isfinite(scalars[0]))
+    fail(format("fix fem/body %s: non-finite strain energy at step %" PRId64
+                " (NaN/Inf in the body state)",
+                id_.c_str(), step));
+  body_.finish_forces(scalars[0], gravity_, dt, count_work);
+}
+
+// Once per run: a particle hits the body faster than the time step can follow (every rank
+// enters; the worst speed and the time step that resolves it come from all ranks).
+void BodyDriver::warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res)
+{
+  warned_unresolved_ = true;
+  double speed = res.unresolved_speed, dt_ok = res.resolving_dt;
+  host_.max(&speed, 1);
+  host_.min(&dt_ok, 1);
+  warn(format("fix fem/body %s: at step %" PRId64 " a particle approaches the surface at "
+              "%g m/s, more than %g %% of its Hertz penetration per time step; the contact is not "
+              "resolved in time and may gain or lose energy: timestep %g or smaller resolves it",
+              id_.c_str(), step, speed, 100 * kMaxApproachPerStep, dt_ok));
+}
+
+// Internal forces of this rank's elements; returns their strain energy. A breaking or eroding
+// body erodes an element that inverts (it would only produce garbage), an eroding body also the
+// elements that meet its criteria, and the step's internal forces are taken again (the material
+// history does not advance twice). Its element work is replicated, so every rank does the same.
+// Otherwise an inverted element is left in first_inverted (the run stops).
+double BodyDriver::internal_forces(std::int64_t step, double dt, int& first_inverted)
+{
+  first_inverted = -1;
+  double energy = body_.add_internal_forces(&first_inverted);
+  if (spec_->erosion.on()) return forces_after_erosion(step, dt, energy, first_inverted);
+  while (first_inverted >= 0 && spec_->fracture_every > 0 && !split_element_work_) {
+    erode_inverted(step, first_inverted);
+    body_.clear_internal_forces();
+    first_inverted = -1;
+    energy = body_.add_internal_forces(&first_inverted);
+  }
+  return energy;
+}
+
+// erosion ...: the elements that meet a criterion and any that inverted leave in one batch, then
+// the forces are taken again until no element inverts; one log line per step. energy: that of
+// the evaluation before.
+double BodyDriver::forces_after_erosion(std::int64_t step, double dt, double energy,
+                                        int& first_inverted)
+{
+  std::vector<int> elems;
+  std::vector<ErosionCause> causes;
+  select_eroding(body_, spec_->erosion, elems, causes);
+  int counts[kErosionCauses] = {0, 0, 0, 0};
+  std::vector<int> batch; // every element this step, for the log
+  for (;;) {
+    if (first_inverted >= 0 &&
+        std::find(elems.begin(), elems.end(), first_inverted) == elems.end()) {
+      elems.push_back(first_inverted);
+      causes.push_back(ErosionCause::Inverted);
+    }
+    if (elems.empty()) break;
+    for (ErosionCause c : causes)
+      ++counts[static_cast<int>(c)];
+    batch.insert(batch.end(), elems.begin(), elems.end());
+    body_.erode(elems, spec_->erosion.remove_mass);
+    elems.clear();
+    causes.clear();
+    body_.clear_internal_forces();
+    first_inverted = -1;
+    energy = body_.add_internal_forces(&first_inverted);
+  }
+  if (!batch.empty()) after_erosion(step, dt, counts, batch);
+  return energy;
+}
+
+// After an erosion batch: the exposed faces join contact at once, the batch is logged in one
+// line, and the stable step is taken again. With 'erosion min_dt DT' at or above the host step
+// no element is left below the host step; otherwise a squeezed element that no criterion removes
+// is warned about (once), as erosion never stops the run.
+void BodyDriver::after_erosion(std::int64_t step, double dt, const int* counts,
+                               const std::vector<int>& batch)
+{
+  rebuild_surfaces();
+  print(erosion_line(step, counts, batch));
+  dt_stable_ = body_.stable_time_step();
+  if (dt_stable_ >= dt || warned_dt_after_erosion_) return;
+  warned_dt_after_erosion_ = true;
+  warn(format("fix fem/body %s: after the erosion at step %" PRId64
+              " the stable FE time step is %g, below the host time step %g (an element squeezed "
+              "that no erosion criterion removes); 'erosion min_dt %g' erodes such elements "
+              "(warned once)",
+              id_.c_str(), step, dt_stable_, dt, dt));
+}
+
+// One line per step: how many left, why, which (the first kMaxListed), and the totals.
+std::string BodyDriver::erosion_line(std::int64_t step, const int* counts,
+                                     const std::vector<int>& batch) const
+{
+  constexpr std::size_t kMaxListed = 12;
+  std::string why, which;
+  for (int c = 0; c < kErosionCauses; ++c)
+    if (counts[c] > 0)
+      why += (why.empty() ? "" : ", ") +
+             std::string(erosion_cause_name(static_cast<ErosionCause>(c))) + " " +
+             std::to_string(counts[c]);
+  for (std::size_t k = 0; k < batch.size() && k < kMaxListed; ++k)
+    which += " " + std::to_string(batch[k]);
+  if (batch.size() > kMaxListed) which += " ...";
+  const ErosionAccount& acc = body_.eroded();
+  return prefix() + "step " + std::to_string(step) + ": eroded " + std::to_string(batch.size()) +
+         " elements (" + why + "):" + which +
+         format("; %d eroded in all, mass %.6g removed, energy %.6g\n", acc.elements, acc.mass,
+                acc.energy);
+}
+
+void BodyDriver::erode_inverted(std::int64_t step, int e)
+{
+  body_.erode({e}, spec_->erosion.remove_mass);
+  rebuild_surfaces();
+  print(format("fix fem/body %s: step %" PRId64
+               ": element %d inverted (det F <= 0) and was eroded; its nodes keep their mass\n",
+               id_.c_str(), step, e));
+}
+
+/* ----------------------------------------------------------------------
+   surfaces and body-body contact
+------------------------------------------------------------------------- */
+
+// After a topology change: particle contact and the contact between the body's own pieces.
+void BodyDriver::rebuild_surfaces()
+{
+  contact_.rebuild_surface(body_.mesh());
+  if (spec_->contact_bodies <= 0) return;
+  surface_.build(body_.mesh(), contact_.facets());
+  self_contact_.invalidate();
+  for (Partner& p : partners_) {
+    p.mine_on_theirs.invalidate();
+    p.theirs_on_mine.invalidate();
+  }
+  for (BodyDriver* other : partner_of_)
+    other->partner_changed(this);
+}
+
+void BodyDriver::partner_changed(BodyDriver* other)
+{
+  for (Partner& p : partners_)
+    if (p.other == other) {
+      p.mine_on_theirs.invalidate();
+      p.theirs_on_mine.invalidate();
+    }
+}
+
+int BodyDriver::body_contacts(double dt)
+{
+  ContactBodyState me{body_.positions().data(), body_.velocities().data(), body_.masses().data(),
+                      body_.contact_forces()};
+  int n = self_contact_.evaluate(surface_, me, surface_, me, true, dt);
+  for (Partner& p : partners_) {
+    Body& ob = p.other->body_;
+    ContactBodyState them{ob.positions().data(), ob.velocities().data(), ob.masses().data(),
+                          ob.pending_contact_forces()};
+    n += p.mine_on_theirs.evaluate(surface_, me, p.other->surface_, them, false, dt);
+    n += p.theirs_on_mine.evaluate(p.other->surface_, them, surface_, me, false, dt);
+  }
+  return n;
+}
+
+/* ----------------------------------------------------------------------
+   nodal fracture: failure map, crack points, node splits (every replica
+   makes the same splits from the same state), then the new crack faces
+   join the contact surface at once
+------------------------------------------------------------------------- */
+
+void BodyDriver::fracture(std::int64_t step, double dt)
+{
+  // An intact body (no damaged point in the last force evaluation; the element work of a
+  // breaking body is done on every rank, so all see the same count) has nothing to check.
+  if (body_.damaged_points() == 0) return;
+  FailureMap& map = failure_map_;
+  if (build_failure_map(body_, map) == 0) return;
+  const std::vector<int> points = crack_points(map);
+  std::vector<SplitEvent> events;
+  if (!points.empty()) events = insert_cracks(body_, points);
+  const int eroded = erode_collapsed(step, dt, map.element_measure);
+  if (events.empty() && eroded == 0) return;
+  // Replicas must stay identical: a rank that split differently stops the run at once.
+  int counts[2] = {body_.num_nodes(), -body_.num_nodes()};
+  host_.max_int(counts, 2);
+  if (counts[0] != -counts[1])
+    fail("fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
+  rebuild_surfaces();
+  log_splits(step, events);
+  log_fragments(step);
+  dt_stable_ = body_.stable_time_step();
+  if (dt_stable_ < dt) {
+    const std::string msg =
+        format("fix fem/body %s: at step %" PRId64
+               " the stable FE time step of the cracked body is %g < host time step %g",
+               id_.c_str(), step, dt_stable_, dt);
+    if (spec_->dt_check_error) fail(msg);
+    warn(msg);
+  }
+}
+
+// A failed element (no tension left) that has been squeezed into a sliver would collapse the
+// stable time step of the whole body: it is eroded (logged; its nodes keep their mass).
+int BodyDriver::erode_collapsed(std::int64_t step, double dt, const std::vector<double>& failure)
+{
+  std::vector<int> eroded;
+  const Mesh& mesh = body_.mesh();
+  for (int e = 0; e < static_cast<int>(failure.size()); ++e) {
+    if (!mesh.active[e] || failure[e] < 1.0) continue;
+    if (!spec_->erode_cracked && body_.element_time_step(e) >= dt) continue;
+    eroded.push_back(e);
+    print(format(
+        "fix fem/body %s: step %" PRId64 ": failed element %d %s, eroded\n", id_.c_str(), step, e,
+        spec_->erode_cracked ? "carries no more tension" : "squeezed below the host time step"));
+  }
+  body_.erode(eroded, spec_->erosion.remove_mass);
+  return static_cast<int>(eroded.size());
+}
+
+// Every split in the log file; on the screen up to four, else their count.
+void BodyDriver::log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const
+{
+  const bool each_on_screen = events.size() <= 4;
+  for (const SplitEvent& ev : events)
+    print(format("fix fem/body %s: step %" PRId64
+                 ": crack at node %d -> new node %d, normal (%.3f %.3f %.3f), %d elements moved\n",
+                 id_.c_str(), step, ev.node, ev.copy, ev.normal[0], ev.normal[1], ev.normal[2],
+                 ev.elements_moved),
+          each_on_screen, true);
+  if (!each_on_screen)
+    print(format("fix fem/body %s: step %" PRId64 ": %zu node splits (see log)\n", id_.c_str(),
+                 step, events.size()),
+          true, false);
+}
+
+// When the body has come apart into more pieces: their count and masses, largest first.
+void BodyDriver::log_fragments(std::int64_t step)
+{
+  const std::vector<double> mass = fragment_masses(body_);
+  const int count = static_cast<int>(mass.size());
+  if (count == last_fragments_) return;
+  last_fragments_ = count;
+  std::string line = prefix() + "step " + std::to_string(step) + ": " + std::to_string(count) +
+                     " fragments, masses";
+  for (size_t k = 0; k < mass.size() && k < 8; ++k)
+    line += format(" %.4g", mass[k]);
+  line += mass.size() > 8 ? " ...\n" : "\n";
+  print(line);
+}
+
+/* ----------------------------------------------------------------------
+   output
+------------------------------------------------------------------------- */
+
+void BodyDriver::write_energy_row_if_due(std::int64_t step)
+{
+  if (energy_fp_ && step % spec_->energy_every == 0) write_energy_row(step);
+}
+
+void BodyDriver::write_energy_row(std::int64_t step)
+{
+  if (step == last_energy_step_) return; // a new run starts where the last ended
+  last_energy_step_ = step;
+  std::FILE* fp = energy_fp_;
+  const double ke = body_.kinetic_energy(), se = body_.strain_energy();
+  std::fprintf(fp, "%" PRId64 ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d,%.12g", step,
+               body_.time(), ke, se, body_.external_work(), body_.contact_work(), ke + se,
+               body_.num_nodes(), body_.mesh().num_active_elems(), body_.dissipated_energy(),
+               split_node_count(body_), fragment_count(body_), body_.boundary_work());
+  if (spec_->viscosity.on) std::fprintf(fp, ",%.12g", body_.viscous_work());
+  if (can_erode())
+    std::fprintf(fp, ",%d,%.12g,%.12g", body_.eroded().elements, body_.eroded().mass,
+                 body_.eroded().energy);
+  if (body_.space().axisymmetric()) std::fprintf(fp, ",%.12g", body_.shield_work());
+  const auto& r = body_.reactions();
+  for (size_t k = 0; k < 3 * spec_->reaction_groups.size(); ++k)
+    std::fprintf(fp, ",%.12g", k < r.size() ? r[k] : 0.0);
+  // Mean displacement of each group's nodes (load-displacement curves).
+  for (const std::string& g : spec_->reaction_groups) {
+    const std::vector<int> nodes = body_node_set(body_, *spec_, g, "energy_file");
+    double u[3] = {0, 0, 0};
+    for (int n : nodes)
+      for (int d = 0; d < 3; ++d)
+        u[d] += (body_.positions()[3 * n + d] - body_.mesh().X[3 * n + d]) / nodes.size();
+    std::fprintf(fp, ",%.12g,%.12g,%.12g", u[0], u[1], u[2]);
+  }
+  std::fputc('\n', fp);
+  std::fflush(fp);
+}
+
+int BodyDriver::vector_size() const
+{
+  return kVecSize + 3 * static_cast<int>(spec_->reaction_groups.size()) + kVecTailSize;
+}
+
+double BodyDriver::vector_entry(int i)
+{
+  switch (i) {
+  case kVecContacts:
+    return ncontacts_;
+  case kVecStableDt:
+    return dt_stable_;
+  case kVecSearchRebuilds: {
+    double rebuilds = contact_.search_rebuilds();
+    host_.max(&rebuilds, 1);
+    return rebuilds;
+  }
+  }
+  const int ngroups = static_cast<int>(spec_->reaction_groups.size());
+  double value = 0.0;
+  if (body_vector_entry(body_, i, ngroups, value)) return value;
+  switch (i - (kVecSize + 3 * ngroups)) {
+  case kVecErodedElements:
+    return body_.eroded().elements;
+  case kVecErodedMass:
+    return body_.eroded().mass;
+  case kVecErodedEnergy:
+    return body_.eroded().energy;
+  case kVecShieldWork:
+    return body_.shield_work();
+  }
+  return 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   restart: the mesh is re-read from the same file when the input script
+   re-creates the fix; the body's state, topology included, is restored
+   from the record
+------------------------------------------------------------------------- */
+
+std::vector<double> BodyDriver::restart_record() const
+{
+  std::vector<double> buf = {kRecordHead, 0.0, spec_->rigid ? 1.0 : 0.0,
+                             static_cast<double>(spec_->transforms.size())};
+  for (const MeshTransform& t : spec_->transforms) {
+    buf.push_back(static_cast<double>(t.kind));
+    buf.insert(buf.end(), t.a, t.a + 4);
+  }
+  std::vector<double> self_state;
+  if (spec_->contact_bodies > 0) self_contact_.pack_state(self_state);
+  if (!self_state.empty()) {
+    buf.push_back(kSelfContactSection);
+    buf.push_back(static_cast<double>(self_state.size()));
+    buf.insert(buf.end(), self_state.begin(), self_state.end());
+  }
+  buf[1] = static_cast<double>(buf.size() - 2);
+  std::vector<double> body;
+  body_.pack_state(body);
+  buf.insert(buf.end(), body.begin(), body.end());
+  return buf;
+}
+
+// The head (after marker and length): placement, then sections. The stored state keeps the
+// stored placement (reference coordinates included), so a command that places the body
+// otherwise, or changes 'rigid', would be silently overruled: refused.
+void BodyDriver::read_head(const double* head, int n, const double*& self_state, size_t& self_size)
+{
+  const int nt = n >= 2 ? static_cast<int>(head[1]) : -1;
+  if (nt < 0 || n < 2 + 5 * nt) fail("fix fem/body: corrupt restart record");
+  std::vector<MeshTransform> stored(nt);
+  for (int k = 0; k < nt; ++k) {
+    stored[k].kind = static_cast<MeshTransform::Kind>(static_cast<int>(head[2 + 5 * k]));
+    std::copy(head + 3 + 5 * k, head + 7 + 5 * k, stored[k].a);
+  }
+  const bool rigid = head[0] != 0.0;
+  if (rigid != spec_->rigid || !same_placement(stored, spec_->transforms))
+    fail(prefix() + "the restart file holds this body with '" + placement_text(rigid, stored) +
+         "' but this command gives '" + placement_text(spec_->rigid, spec_->transforms) +
+         "'; the body continues from the stored state and placement, so give the stored "
+         "keywords (to start the body afresh from its mesh instead, put 'run 0' before this fix "
+         "command: a run drops the file's fix states)");
+  for (int k = 2 + 5 * nt; k < n;) {
+    const double tag = head[k];
+    const int size = k + 1 < n ? static_cast<int>(head[k + 1]) : -1;
+    if (size < 0 || k + 2 + size > n) fail("fix fem/body: corrupt restart record");
+    if (tag == kSelfContactSection) {
+      self_state = head + k + 2;
+      self_size = static_cast<size_t>(size);
+    }
+    k += 2 + size;
+  }
+}
+
+void BodyDriver::read_restart(const double* record)
+{
+  const double* self_state = nullptr;
+  size_t self_size = 0;
+  if (record[0] == kRecordHead) {
+    const int n = static_cast<int>(record[1]);
+    read_head(record + 2, n, self_state, self_size);
+    record += 2 + n;
+  }
+  try {
+    body_.unpack_state(record);
+  } catch (const std::exception& e) {
+    fail(prefix() + e.what() + " (mesh '" + spec_->mesh_file +
+         "'); use the same mesh file and transforms as the run that wrote it");
+  }
+  rebuild_surfaces();
+  // The pieces' contacts continue where they were (without: a resting contact would restart
+  // as an unexplained penetration and lose its force).
+  if (spec_->contact_bodies > 0 && self_state) {
+    try {
+      self_contact_.unpack_state(self_state, self_size);
+    } catch (const std::exception& e) {
+      fail(prefix() + e.what());
+    }
+  }
+  restarted_ = true;
+}
+
+} // namespace fracdem

@@ -1,0 +1,174 @@
+// BodyDriver: the step of one fix fem/body (forces with erosion, fracture, surfaces, body-body
+// contact, energy file, restart record) between a host adapter and fracdem::Body.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "contact/particle_facet.h"
+#include "contact/surface_contact.h"
+#include "fem/body.h"
+#include "fem/body_spec.h"
+#include "fracture/nodal_fracture.h"
+
+namespace fracdem
+{
+
+// What the driver needs of its host. The reductions work in place and are entered by every rank
+// at the same point. print and warning are called on rank 0 (but the history-slots warning, on
+// the rank that ran out, as the LIGGGHTS adapter did); error_all stops the run on every rank and
+// must not return (the driver throws std::runtime_error if it does).
+struct BodyHost {
+  int rank = 0, nprocs = 1;
+  std::function<void(double*, int)> sum, max, min;
+  std::function<void(int*, int)> max_int;
+  // A line (with its '\n') for the screen and / or the log file.
+  std::function<void(const std::string&, bool screen, bool logfile)> print;
+  std::function<void(const std::string&)> warning, error_all;
+};
+// A host of one rank (reductions do nothing; print, warning and errors go to the given sinks;
+// unit tests collect them). error_all throws std::runtime_error(text) when none is given.
+BodyHost serial_host(std::function<void(const std::string&)> out = nullptr);
+
+// The global vector after the core's entries and the reactions (docs/fix_fem_body.md).
+enum BodyVectorTail {
+  kVecErodedElements = 0,
+  kVecErodedMass,
+  kVecErodedEnergy,
+  kVecShieldWork,
+  kVecTailSize
+};
+
+// One replicated body and its step, in the order a host calls it:
+//   attach(spec, id, host), build(dimension)           fix command
+//   configure_contact(...), set_partners(...), set_gravity(...), check_time_step(dt)   init
+//   start_run(), [host: box check], compute_forces(...), write_energy_row_if_due(step) setup
+//   begin_step(dt) | compute_forces(...) | end_step(step, dt)                           step
+// The host fills ParticleArrays and reads its own settings (gravity, friction, box); the
+// driver does the rest and reports through BodyHost.
+class BodyDriver
+{
+public:
+  BodyDriver() = default;
+  BodyDriver(const BodyDriver&) = delete;
+  BodyDriver& operator=(const BodyDriver&) = delete;
+  ~BodyDriver();
+
+  // The spec stays the host's (it may resolve defaults later, e.g. the search buffer).
+  void attach(const BodySpec& spec, const std::string& fix_id, BodyHost host);
+  // Builds the body (throws SpecError), shares its element work among the ranks where it can,
+  // builds its surfaces and checks the crack band (error_all).
+  void build(int dimension);
+  // "fix fem/body ID: MESH, N nodes, M elements, F boundary facets, deformable corotational, ..."
+  // without the line end.
+  std::string describe() const;
+
+  // ---- set-up of a run ----
+  // Particle contact: options (search buffer included) and one material per atom type.
+  void configure_contact(const ParticleFacetOptions& options, std::vector<ContactMaterial> mats);
+  // Body-body contact (contact_bodies yes): `later` are the bodies whose contact this one
+  // computes, `earlier` those that compute it with this one; friction(ti, tj) is the Coulomb
+  // coefficient between surfaces of types ti and tj.
+  void set_partners(const std::vector<BodyDriver*>& later, const std::vector<BodyDriver*>& earlier,
+                    const std::function<double(int, int)>& friction);
+  void set_gravity(const double g[3]);
+  // Logs the stable step against the host step dt, errors / warns as dt_check says.
+  void check_time_step(double dt);
+  // Opens energy_file on rank 0 and writes its header; returns "" or the error text.
+  std::string open_energy_file();
+  // Initial velocities (first run, not after a restart) and a rigid body's placement.
+  void start_run();
+  void log_memory();
+
+  // ---- the step ----
+  void begin_step(double dt);
+  // Internal forces (erosion, inverted elements), body-body and particle contact (particles:
+  // nullptr without particle contact), the reductions, the checks; count_work: not in set-up.
+  void compute_forces(const ParticleArrays* particles, std::int64_t step, double dt,
+                      bool count_work);
+  // Second half kick, fracture check, energy row.
+  void end_step(std::int64_t step, double dt);
+  void write_energy_row_if_due(std::int64_t step);
+
+  // ---- output ----
+  int vector_size() const;
+  double scalar() const { return body_.kinetic_energy() + body_.strain_energy(); }
+  // Entry i of the global vector (every rank enters: the search rebuilds are reduced).
+  double vector_entry(int i);
+  std::size_t memory_bytes() const;
+
+  // ---- restart: the adapter head (placement, piece contact) and the body's record ----
+  std::vector<double> restart_record() const;
+  // Restores a record of restart_record() (or an older one without the head); errors name the
+  // fix and go to error_all.
+  void read_restart(const double* record);
+  bool restarted() const { return restarted_; }
+
+  // ---- state ----
+  Body& body() { return body_; }
+  const Body& body() const { return body_; }
+  const BodySpec& spec() const { return *spec_; }
+  const ParticleFacetContact& contact() const { return contact_; }
+  ParticleFacetContact& contact() { return contact_; }
+  bool split_element_work() const { return split_element_work_; }
+  bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
+  double stable_dt() const { return dt_stable_; }
+  int contacts() const { return ncontacts_; }
+
+  // Exposed for tests: the fracture check and the erosion log line.
+  void fracture(std::int64_t step, double dt);
+  std::string erosion_line(std::int64_t step, const int* counts,
+                           const std::vector<int>& batch) const;
+
+private:
+  struct Partner {
+    BodyDriver* other = nullptr;
+    SurfaceContact mine_on_theirs, theirs_on_mine;
+  };
+  [[noreturn]] void fail(const std::string& text) const;
+  void print(const std::string& line, bool screen = true, bool logfile = true) const;
+  void warn(const std::string& text) const; // rank 0
+  std::string prefix() const { return "fix fem/body " + id_ + ": "; }
+  void check_crack_band();
+  double internal_forces(std::int64_t step, double dt, int& first_inverted);
+  double forces_after_erosion(std::int64_t step, double dt, double energy, int& first_inverted);
+  void after_erosion(std::int64_t step, double dt, const int* counts,
+                     const std::vector<int>& batch);
+  void erode_inverted(std::int64_t step, int e);
+  int erode_collapsed(std::int64_t step, double dt, const std::vector<double>& failure);
+  void log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const;
+  void log_fragments(std::int64_t step);
+  void warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res);
+  void rebuild_surfaces();
+  void partner_changed(BodyDriver* other);
+  SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
+  int body_contacts(double dt);
+  void write_energy_row(std::int64_t step);
+  void read_head(const double* head, int n, const double*& self_state, size_t& self_size);
+
+  const BodySpec* spec_ = nullptr;
+  std::string id_;
+  BodyHost host_;
+  int dimension_ = 3;
+  Body body_;
+  bool split_element_work_ = false; // element work shared among ranks (else replicated)
+  ParticleFacetContact contact_;
+  ContactSurface surface_;
+  SurfaceContact self_contact_;
+  std::vector<Partner> partners_;
+  std::vector<BodyDriver*> partner_of_; // earlier bodies that handle contact with this one
+  FailureMap failure_map_;              // kept between checks: no allocation per check
+  int last_fragments_ = 1;
+  double gravity_[3] = {0, 0, 0};
+  double dt_stable_ = 0;
+  int ncontacts_ = 0;
+  bool velocities_applied_ = false, restarted_ = false;
+  bool warned_slots_ = false, warned_unresolved_ = false, warned_dt_after_erosion_ = false;
+  std::FILE* energy_fp_ = nullptr;
+  std::int64_t last_energy_step_ = -1;
+};
+
+} // namespace fracdem
