@@ -3,6 +3,8 @@
 #include "fix_fem_body.h"
 
 #include <cstring>
+#include <functional>
+#include <memory>
 
 #include "atom.h"
 #include "comm.h"
@@ -18,6 +20,7 @@
 
 #include "contact/granular_law.h"
 #include "fem/body_setup.h"
+#include "node_exchange.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -97,6 +100,12 @@ fracdem::BodyHost FixFemBody::host() const
   Error* err = error;
   h.warning = [err](const std::string& text) { err->warning(FLERR, text.c_str()); };
   h.error_all = [err](const std::string& text) { err->all(FLERR, text.c_str()); };
+  h.error_one = [err](const std::string& text) { err->one(FLERR, text.c_str()); };
+  h.shared_sum_for = [w](const fracdem::MeshPart& part) {
+    auto exchange = std::make_shared<fracdem::NodeExchange>(w, part);
+    return std::function<void(double*, int)>(
+        [exchange](double* field, int width) { exchange->sum(field, width); });
+  };
   return h;
 }
 
@@ -171,8 +180,15 @@ void FixFemBody::check_in_box(const char* when)
   snprintf(step, sizeof step, "at step " BIGINT_FORMAT, update->ntimestep);
   std::string msg = std::string(kStyle) + " " + id + ": mesh '" + spec_.mesh_file + "' " +
                     (when ? when : step) + ": ";
+  // A distributed body's rank sees its own part only: it stops the run by itself.
+  auto stop = [this](const std::string& text) {
+    if (driver_.distributed())
+      error->one(FLERR, text.c_str());
+    else
+      error->all(FLERR, text.c_str());
+  };
   if (placed) {
-    error->all(FLERR, (msg + where + " (keywords 'move', 'scale', 'rotate' place it)").c_str());
+    stop(msg + where + " (keywords 'move', 'scale', 'rotate' place it)");
   } else if (spec_.rigid) {
     if (spec_.motion.kind != fracdem::RigidMotion::None)
       msg += "its prescribed 'motion' has carried it out of the box: ";
@@ -180,7 +196,7 @@ void FixFemBody::check_in_box(const char* when)
   }
   warned_outside_ = true;
   msg += "its nodes have moved out of the box: " + where + " (warned once; the run goes on)";
-  if (comm->me == 0) error->warning(FLERR, msg.c_str());
+  if (comm->me == 0 || driver_.distributed()) error->warning(FLERR, msg.c_str());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -272,8 +288,22 @@ void FixFemBody::reset_dt()
 
 /* ---------------------------------------------------------------------- */
 
+// A distributed body has no particle contact yet: a scene with particles is refused (natoms is
+// the global count, the same on every rank).
+void FixFemBody::check_distributed_scene()
+{
+  if (driver_.distributed() && atom->natoms > 0)
+    error->all(FLERR, (std::string(kStyle) + " " + id +
+                       ": keyword 'parallel distributed': the body has no contact with particles "
+                       "yet, and this run has " +
+                       std::to_string(static_cast<long long>(atom->natoms)) +
+                       " particles; use 'parallel replicated'")
+                          .c_str());
+}
+
 void FixFemBody::setup(int /*vflag*/)
 {
+  check_distributed_scene();
   driver_.start_run();
   check_in_box("at the start of the run"); // restart, change_box and earlier runs move it
   driver_.contact().invalidate_search();
@@ -286,6 +316,7 @@ void FixFemBody::setup(int /*vflag*/)
 // and every kBoxCheckEvery steps (a scene without moving particles never re-neighbours).
 void FixFemBody::pre_neighbor()
 {
+  check_distributed_scene();
   driver_.contact().invalidate_search();
   check_in_box(nullptr);
 }
@@ -338,7 +369,8 @@ fracdem::ParticleArrays FixFemBody::particle_arrays() const
 void FixFemBody::compute_forces()
 {
   const fracdem::ParticleArrays particles = particle_arrays();
-  driver_.compute_forces(&particles, update->ntimestep, update->dt, update->setupflag == 0);
+  driver_.compute_forces(driver_.distributed() ? nullptr : &particles, update->ntimestep,
+                         update->dt, update->setupflag == 0);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -53,6 +53,9 @@ public:
 
   // Read access for output fixes (fix fem/vtk) and diagnostics.
   const fracdem::Body& body() const { return driver_.body(); }
+  // parallel distributed: this rank holds part() of the body only.
+  bool distributed() const { return driver_.distributed(); }
+  const fracdem::MeshPart& part() const { return driver_.part(); }
   const fracdem::Mesh& mesh() const { return body().mesh(); }
   const fracdem::FeSpace& fe_space() const { return body().space(); }
   const std::vector<double>& positions() const { return body().positions(); }
@@ -80,6 +83,7 @@ private:
   void read_contact_properties();
   void find_contact_partners();
   void read_gravity();
+  void check_distributed_scene();
 
   // ---- per-step work: the core's fracdem::BodyDriver; this adapter moves data ----
   fracdem::ParticleArrays particle_arrays() const;

@@ -399,7 +399,7 @@ TEST(BodySpec, UnknownKeywordAndHeader)
 TEST(BodySpec, KeywordTableListsEveryKeywordOnce)
 {
   const std::vector<std::string> k = body_keywords();
-  EXPECT_EQ(k.size(), 31u);
+  EXPECT_EQ(k.size(), 32u);
   for (std::size_t i = 0; i < k.size(); ++i)
     for (std::size_t j = i + 1; j < k.size(); ++j)
       EXPECT_NE(k[i], k[j]);
@@ -642,4 +642,25 @@ TEST(BodySetupText, BodyInTheBox)
   EXPECT_NE(body_box_violation(facets, x.data(), box).find("more than a period outside"),
             std::string::npos);
   EXPECT_EQ(body_box_violation({}, x.data(), box), ""); // no surface, nothing to hit
+}
+
+// parallel replicated|distributed; what a distributed body does not do yet is refused by name.
+TEST(BodySpec, ParallelDistributed)
+{
+  const std::string body = std::string(kBody) + " ";
+  EXPECT_FALSE(parse(body).distributed);
+  EXPECT_TRUE(parse(body + "parallel distributed").distributed);
+  EXPECT_FALSE(parse(body + "parallel replicated").distributed);
+  EXPECT_EQ(error_of(body + "parallel sideways"),
+            "keyword 'parallel' expects distributed or replicated");
+  EXPECT_EQ(check_error(body + "parallel distributed"), "");
+  const std::string tail = " yet; use 'parallel replicated' (the default)";
+  EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
+                               "fracture_energy 100 fracture nodal"),
+            "keyword 'parallel distributed' does not work with 'fracture'" + tail);
+  EXPECT_EQ(check_error(body + "parallel distributed contact_bodies yes"),
+            "keyword 'parallel distributed' does not work with 'contact_bodies yes'" + tail);
+  EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
+                               "erosion plastic_strain 2"),
+            "keyword 'parallel distributed' does not work with 'erosion'" + tail);
 }

@@ -104,6 +104,12 @@ void BodyDriver::fail(const std::string& text) const
   throw std::runtime_error(text); // error_all must not return
 }
 
+void BodyDriver::fail_one(const std::string& text) const
+{
+  if (host_.error_one) host_.error_one(text);
+  fail(text);
+}
+
 void BodyDriver::print(const std::string& line, bool screen, bool logfile) const
 {
   if (host_.rank == 0) host_.print(line, screen, logfile);
@@ -119,7 +125,10 @@ void BodyDriver::warn(const std::string& text) const
 void BodyDriver::build(int dimension)
 {
   dimension_ = dimension;
+  if (spec_->distributed && host_.nprocs > 1) return build_distributed(dimension);
   build_body(*spec_, dimension, body_);
+  global_nodes_ = body_.num_nodes();
+  global_elems_ = body_.mesh().num_elems();
   // Every rank holds the whole body (replicated). The element work of a material without
   // history is split evenly; one with history (softening, cracks, the viscous work of the bulk
   // viscosity) is advanced on every rank, so that every replica holds the whole material state
@@ -127,6 +136,30 @@ void BodyDriver::build(int dimension)
   // replica sees every inverted element and erodes the same elements.
   split_element_work_ =
       fracdem::split_element_work(body_, host_.rank, host_.nprocs, spec_->erosion.on());
+  rebuild_surfaces();
+  check_crack_band();
+}
+
+// parallel distributed: this rank's METIS part, its masses summed with the parts that share its
+// nodes. Its element work is all its own (no ranges); the surfaces are the part's (particle
+// contact and contact between bodies are refused for distributed bodies).
+void BodyDriver::build_distributed(int dimension)
+{
+  if (!host_.shared_sum_for)
+    fail(prefix() + "keyword 'parallel distributed' is not available under this host; use "
+                    "'parallel replicated'");
+  distributed_ = true;
+  part_ = build_body_part(*spec_, dimension, host_.rank, host_.nprocs, body_, global_nodes_,
+                          global_elems_);
+  shared_sum_ = host_.shared_sum_for(part_);
+  double pairs = 0; // (shared node, neighbouring part) pairs of all parts: the exchange's size
+  for (const PartNeighbour& nb : part_.neighbours)
+    pairs += static_cast<double>(nb.nodes.size());
+  host_.sum(&pairs, 1);
+  interface_pairs_ = static_cast<long long>(pairs);
+  std::vector<double> mass = body_.masses();
+  shared_sum_(mass.data(), 1);
+  body_.set_masses(mass);
   rebuild_surfaces();
   check_crack_band();
 }
@@ -162,6 +195,13 @@ std::string BodyDriver::describe() const
       s.rigid ? ""
               : (s.material.kinematics == Kinematics::Corotational ? "corotational"
                                                                    : "small-strain elastic");
+  if (distributed_)
+    return format("fix fem/body %s: %s, %d nodes, %d elements, deformable %s%s, distributed over "
+                  "%d ranks (METIS parts of the elements; rank 0: %d elements, %d nodes, %d "
+                  "shared, %zu neighbouring parts; %lld (shared node, neighbour) pairs in all)",
+                  id_.c_str(), s.mesh_file.c_str(), global_nodes_, global_elems_, kind,
+                  viscosity.c_str(), host_.nprocs, body_.mesh().num_elems(), part_.num_nodes(),
+                  part_.num_shared_nodes(), part_.neighbours.size(), interface_pairs_);
   return format("fix fem/body %s: %s, %d nodes, %d elements, %zu boundary facets, %s%s%s",
                 id_.c_str(), s.mesh_file.c_str(), body_.num_nodes(), body_.mesh().num_elems(),
                 contact_.facets().size(), s.rigid ? "rigid" : "deformable ", kind,
@@ -226,6 +266,7 @@ void BodyDriver::check_time_step(double dt)
 {
   if (spec_->rigid) return;
   dt_stable_ = stable_time_step_after_erosion(body_, spec_->erosion);
+  if (distributed_) host_.min(&dt_stable_, 1);
   print(prefix() + time_step_line(dt_stable_, dt) +
         (spec_->erosion.min_dt > 0 ? " without the elements below erosion min_dt\n" : "\n"));
   const std::string violation = time_step_violation(dt_stable_, dt, spec_->mesh_file);
@@ -334,6 +375,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 {
   const int nn = body_.num_nodes();
   body_.begin_forces();
+  if (distributed_) return distributed_forces(step, dt, count_work);
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
   // particles; one reduction makes every replica identical.
@@ -377,6 +419,25 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
                 " (NaN/Inf in the body state)",
                 id_.c_str(), step));
   body_.finish_forces(scalars[0], gravity_, dt, count_work);
+}
+
+// parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
+// parts (one message each, no collective); a rank that finds an inverted element or a NaN stops
+// the run by itself (no per-step reduction to find out).
+void BodyDriver::distributed_forces(std::int64_t step, double dt, bool count_work)
+{
+  int first_inverted = -1;
+  const double energy = body_.add_internal_forces(&first_inverted);
+  shared_sum_(body_.forces_data(), 3);
+  if (first_inverted >= 0)
+    fail_one(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
+                    "; the time step is too large or the load too severe for this mesh",
+                    id_.c_str(), part_.global_elem[first_inverted], step));
+  if (!std::isfinite(energy))
+    fail_one(format("fix fem/body %s: non-finite strain energy at step %" PRId64
+                    " (NaN/Inf in the body state)",
+                    id_.c_str(), step));
+  body_.finish_forces(energy, gravity_, dt, count_work);
 }
 
 // Once per run: a particle hits the body faster than the time step can follow (every rank
@@ -628,7 +689,63 @@ void BodyDriver::log_fragments(std::int64_t step)
 
 void BodyDriver::write_energy_row_if_due(std::int64_t step)
 {
-  if (energy_fp_ && step % spec_->energy_every == 0) write_energy_row(step);
+  if (spec_->energy_file.empty() || step % spec_->energy_every != 0) return;
+  if (distributed_)
+    write_distributed_energy_row(step); // every rank enters the reduction
+  else if (energy_fp_)
+    write_energy_row(step);
+}
+
+// The replicated row's columns, each summed over the parts (owned nodes; a group's mean
+// displacement from the sums and counts of its owned nodes). Split nodes, fragments and eroded
+// elements are 0: a distributed body does not break or erode yet.
+void BodyDriver::write_distributed_energy_row(std::int64_t step)
+{
+  if (step == last_energy_step_) return;
+  last_energy_step_ = step;
+  double owned = 0;
+  for (int n = 0; n < part_.num_nodes(); ++n)
+    owned += part_.owns(n) ? 1.0 : 0.0;
+  std::vector<double> v = {body_.kinetic_energy(),
+                           body_.strain_energy(),
+                           body_.external_work(),
+                           body_.contact_work(),
+                           owned,
+                           static_cast<double>(body_.mesh().num_active_elems()),
+                           body_.dissipated_energy(),
+                           body_.boundary_work(),
+                           body_.viscous_work(),
+                           body_.shield_work()};
+  const auto& r = body_.reactions();
+  for (size_t k = 0; k < 3 * spec_->reaction_groups.size(); ++k)
+    v.push_back(k < r.size() ? r[k] : 0.0);
+  for (const std::string& g : spec_->reaction_groups) {
+    double u[4] = {0, 0, 0, 0}; // displacement sums, count
+    for (int n : body_node_set(body_, *spec_, g, "energy_file")) {
+      if (!part_.owns(n)) continue;
+      for (int d = 0; d < 3; ++d)
+        u[d] += body_.positions()[3 * n + d] - body_.mesh().X[3 * n + d];
+      u[3] += 1;
+    }
+    v.insert(v.end(), u, u + 4);
+  }
+  host_.sum(v.data(), static_cast<int>(v.size()));
+  if (!energy_fp_) return;
+  std::FILE* fp = energy_fp_;
+  std::fprintf(fp, "%" PRId64 ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,0,1,%.12g", step,
+               body_.time(), v[0], v[1], v[2], v[3], v[0] + v[1], static_cast<int>(v[4]),
+               static_cast<int>(v[5]), v[6], v[7]);
+  if (spec_->viscosity.on) std::fprintf(fp, ",%.12g", v[8]);
+  if (body_.space().axisymmetric()) std::fprintf(fp, ",%.12g", v[9]);
+  size_t k = 10;
+  for (size_t j = 0; j < 3 * spec_->reaction_groups.size(); ++j)
+    std::fprintf(fp, ",%.12g", v[k++]);
+  for (size_t g = 0; g < spec_->reaction_groups.size(); ++g, k += 4) {
+    const double count = v[k + 3] > 0 ? v[k + 3] : 1.0;
+    std::fprintf(fp, ",%.12g,%.12g,%.12g", v[k] / count, v[k + 1] / count, v[k + 2] / count);
+  }
+  std::fputc('\n', fp);
+  std::fflush(fp);
 }
 
 void BodyDriver::write_energy_row(std::int64_t step)
@@ -662,6 +779,13 @@ void BodyDriver::write_energy_row(std::int64_t step)
   std::fflush(fp);
 }
 
+double BodyDriver::scalar()
+{
+  double value = body_.kinetic_energy() + body_.strain_energy();
+  if (distributed_) host_.sum(&value, 1);
+  return value;
+}
+
 int BodyDriver::vector_size() const
 {
   return kVecSize + 3 * static_cast<int>(spec_->reaction_groups.size()) + kVecTailSize;
@@ -669,6 +793,7 @@ int BodyDriver::vector_size() const
 
 double BodyDriver::vector_entry(int i)
 {
+  if (distributed_) return distributed_vector_entry(i);
   switch (i) {
   case kVecContacts:
     return ncontacts_;
@@ -702,8 +827,29 @@ double BodyDriver::vector_entry(int i)
    from the record
 ------------------------------------------------------------------------- */
 
+// A distributed body's entries are sums over the parts (each counts the nodes it owns), but the
+// stable step (the smallest) and the node count (owned nodes).
+double BodyDriver::distributed_vector_entry(int i)
+{
+  const int ngroups = static_cast<int>(spec_->reaction_groups.size());
+  double value = 0.0;
+  if (i == kVecNodes) {
+    for (int n = 0; n < part_.num_nodes(); ++n)
+      value += part_.owns(n) ? 1.0 : 0.0;
+  } else if (i == kVecStableDt) {
+    return dt_stable_; // already the smallest of the parts'
+  } else if (!body_vector_entry(body_, i, ngroups, value)) {
+    value = i - (kVecSize + 3 * ngroups) == kVecShieldWork ? body_.shield_work() : 0.0;
+  }
+  host_.sum(&value, 1);
+  return value;
+}
+
 std::vector<double> BodyDriver::restart_record() const
 {
+  if (distributed_)
+    fail_one(prefix() + "restart files of a 'parallel distributed' body are not supported yet; "
+                        "use 'parallel replicated' for runs that write restart files");
   std::vector<double> buf = {kRecordHead, 0.0, spec_->rigid ? 1.0 : 0.0,
                              static_cast<double>(spec_->transforms.size())};
   for (const MeshTransform& t : spec_->transforms) {

@@ -11,6 +11,7 @@
 #include "contact/particle_facet.h"
 #include "contact/surface_contact.h"
 #include "fem/body.h"
+#include "fem/body_partition.h"
 #include "fem/body_spec.h"
 #include "fracture/nodal_fracture.h"
 
@@ -28,6 +29,13 @@ struct BodyHost {
   // A line (with its '\n') for the screen and / or the log file.
   std::function<void(const std::string&, bool screen, bool logfile)> print;
   std::function<void(const std::string&)> warning, error_all;
+  // Stops the run from one rank (a check that only that rank can make; must not return). Unset:
+  // error_all.
+  std::function<void(const std::string&)> error_one;
+  // parallel distributed: the sum of per-node values over the parts that share each node
+  // (fem/body_partition.h InterfaceSum over MPI, src/parallel/node_exchange.h) for this rank's
+  // part. Unset: the host cannot hold distributed bodies.
+  std::function<std::function<void(double*, int)>(const MeshPart&)> shared_sum_for;
 };
 // A host of one rank (reductions do nothing; print, warning and errors go to the given sinks;
 // unit tests collect them). error_all throws std::runtime_error(text) when none is given.
@@ -95,7 +103,7 @@ public:
 
   // ---- output ----
   int vector_size() const;
-  double scalar() const { return body_.kinetic_energy() + body_.strain_energy(); }
+  double scalar(); // every rank enters (distributed bodies sum over the ranks)
   // Entry i of the global vector (every rank enters: the search rebuilds are reduced).
   double vector_entry(int i);
   std::size_t memory_bytes() const;
@@ -114,6 +122,8 @@ public:
   const ParticleFacetContact& contact() const { return contact_; }
   ParticleFacetContact& contact() { return contact_; }
   bool split_element_work() const { return split_element_work_; }
+  bool distributed() const { return distributed_; }
+  const MeshPart& part() const { return part_; }
   bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }
@@ -147,6 +157,11 @@ private:
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
   int body_contacts(double dt);
   void write_energy_row(std::int64_t step);
+  void write_distributed_energy_row(std::int64_t step);
+  void distributed_forces(std::int64_t step, double dt, bool count_work);
+  double distributed_vector_entry(int i);
+  void build_distributed(int dimension);
+  void fail_one(const std::string& text) const;
   void read_head(const double* head, int n, const double*& self_state, size_t& self_size);
 
   const BodySpec* spec_ = nullptr;
@@ -155,6 +170,11 @@ private:
   int dimension_ = 3;
   Body body_;
   bool split_element_work_ = false; // element work shared among ranks (else replicated)
+  bool distributed_ = false;        // parallel distributed: this rank holds part_ only
+  MeshPart part_;
+  std::function<void(double*, int)> shared_sum_;
+  int global_nodes_ = 0, global_elems_ = 0;
+  long long interface_pairs_ = 0;
   ParticleFacetContact contact_;
   ContactSurface surface_;
   SurfaceContact self_contact_;

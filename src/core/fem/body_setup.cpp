@@ -2,6 +2,7 @@
 #include "fem/body_setup.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
@@ -44,9 +45,12 @@ Mesh placed_mesh(const BodySpec& spec, int dimension)
 
 } // namespace
 
-void build_body(const BodySpec& spec, int dimension, Body& body)
+namespace
 {
-  Mesh mesh = placed_mesh(spec, dimension);
+// The body of a (placed) mesh: material, conditions, motion (the names of velocity groups are
+// checked now, the velocities applied at the run).
+void build_from_mesh(const BodySpec& spec, Mesh mesh, Body& body)
+{
   const std::string material_error = material_setup_error(spec.material, mesh.dim);
   if (!material_error.empty()) throw SpecError(material_error, true);
   try {
@@ -63,6 +67,27 @@ void build_body(const BodySpec& spec, int dimension, Body& body)
                                  s.ramp, s.group);
   for (const NodeVelocitySpec& s : spec.initial_velocity)
     body_node_set(body, spec, s.set, "velocity"); // names checked now, applied at the run
+}
+} // namespace
+
+void build_body(const BodySpec& spec, int dimension, Body& body)
+{
+  build_from_mesh(spec, placed_mesh(spec, dimension), body);
+}
+
+MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
+                         int& global_nodes, int& global_elems)
+{
+  const Mesh mesh = placed_mesh(spec, dimension);
+  global_nodes = mesh.num_nodes();
+  global_elems = mesh.num_elems();
+  MeshPart part = extract_part(mesh, partition_elements(mesh, nprocs), rank);
+  build_from_mesh(spec, part.mesh, body);
+  std::vector<std::uint8_t> owned(part.num_nodes());
+  for (int n = 0; n < part.num_nodes(); ++n)
+    owned[n] = part.owns(n);
+  body.set_counted_nodes(std::move(owned));
+  return part;
 }
 
 std::vector<int> body_node_set(const Body& body, const BodySpec& spec, const std::string& name,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fem/body.h"
+#include "fem/body_partition.h"
 #include "fem/body_spec.h"
 
 namespace fracdem
@@ -14,6 +15,12 @@ namespace fracdem
 // motion, bulk viscosity, fixed and prescribed nodes; initial-velocity sets checked. Throws
 // SpecError (mesh errors name the fix).
 void build_body(const BodySpec& spec, int dimension, Body& body);
+// parallel distributed: every rank reads and places the whole mesh, partitions it the same way
+// (partition_elements) and builds its own part's body, which counts only the nodes it owns. The
+// part's masses at shared nodes are its own elements' share until the host sums them. Returns
+// the part; global_nodes / global_elems: the whole body's counts.
+MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
+                         int& global_nodes, int& global_elems);
 // A node set of the built body: "all" or a physical group of the mesh; keyword: the keyword that
 // names it (error messages). Throws SpecError.
 std::vector<int> body_node_set(const Body& body, const BodySpec& spec, const std::string& name,

@@ -372,6 +372,11 @@ void parse_energy_file(SpecReader& r, BodySpec& s)
   r.take(3);
 }
 
+void parse_parallel(SpecReader& r, BodySpec& s)
+{
+  s.distributed = r.either("distributed", "replicated");
+}
+
 void parse_contact_bodies(SpecReader& r, BodySpec& s)
 {
   s.contact_bodies = r.either("yes", "no") ? 1 : 0;
@@ -433,6 +438,7 @@ const std::vector<Keyword> kKeywords = {
     {"contact_bodies", parse_contact_bodies},
     {"contact_penalty", parse_contact_penalty},
     {"history_slots", parse_history_slots},
+    {"parallel", parse_parallel},
 };
 
 const Keyword* find_keyword(const std::string& keyword)
@@ -531,6 +537,20 @@ void check_erosion(const BodySpec& s)
          "'fracture nodal')");
 }
 
+// What a distributed body does not do yet (docs/distributed_bodies.md): each refused by name.
+void check_distributed(const BodySpec& s)
+{
+  if (!s.distributed) return;
+  const char* what = s.rigid                ? "'rigid yes'"
+                     : s.fracture_every > 0 ? "'fracture'"
+                     : s.erosion.on()       ? "'erosion'"
+                     : s.contact_bodies > 0 ? "'contact_bodies yes'"
+                                            : nullptr;
+  if (what)
+    fail(std::string("keyword 'parallel distributed' does not work with ") + what +
+         " yet; use 'parallel replicated' (the default)");
+}
+
 // Defaults that depend on other settings, and the keywords they make meaningless.
 void resolve_defaults(BodySpec& s)
 {
@@ -548,6 +568,7 @@ void resolve_defaults(BodySpec& s)
   if (s.contact_bodies < 0) s.contact_bodies = 0;
   if (s.contact_bodies && s.rigid) fail("keyword 'contact_bodies yes' needs a deformable body");
   check_erosion(s);
+  check_distributed(s);
 }
 
 } // namespace

@@ -81,6 +81,9 @@ struct BodySpec {
   bool apply_gravity = true;
   std::string energy_file;
   int energy_every = 0;
+  // parallel replicated|distributed: every rank holds the whole body, or one METIS part of it
+  // (docs/distributed_bodies.md).
+  bool distributed = false;
 
   // Index of the reaction account of a node group (one per group name, in order of appearance).
   int reaction_group(const std::string& set);

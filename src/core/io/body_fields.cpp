@@ -1,6 +1,8 @@
 // Assembly of a body's output fields (displacement, stress, fracture, plastic state) for write_vtu.
 #include "io/body_fields.h"
 
+#include "io/pvtu_writer.h"
+
 #include <cstdio>
 #include <cstdlib>
 
@@ -113,6 +115,29 @@ void write_body_vtu(const std::string& path, const Body& body)
 {
   const BodyFields f(body);
   write_vtu(path, body.mesh(), body.positions().data(), f.fields());
+}
+
+std::string body_piece_path(const std::string& pvtu_path, int rank)
+{
+  const std::string stem = pvtu_path.substr(0, pvtu_path.size() - 5); // drop ".pvtu"
+  return stem + "_p" + std::to_string(rank) + ".vtu";
+}
+
+void write_body_piece(const std::string& pvtu_path, int rank, int nprocs, const Body& body,
+                      const MeshPart& part)
+{
+  const BodyFields f(body);
+  std::vector<VtkField> fields = f.fields();
+  const std::vector<double> global_node(part.global_node.begin(), part.global_node.end());
+  const std::vector<double> global_elem(part.global_elem.begin(), part.global_elem.end());
+  fields.push_back({"global_node", 1, global_node.data(), false});
+  fields.push_back({"global_element", 1, global_elem.data(), true});
+  write_vtu(body_piece_path(pvtu_path, rank), body.mesh(), body.positions().data(), fields);
+  if (rank != 0) return;
+  std::vector<std::string> pieces;
+  for (int r = 0; r < nprocs; ++r)
+    pieces.push_back(body_piece_path(pvtu_path, r));
+  write_pvtu(pvtu_path, pieces, fields);
 }
 
 } // namespace fracdem

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fem/body.h"
+#include "fem/body_partition.h"
 #include "io/vtk_writer.h"
 
 namespace fracdem
@@ -52,5 +53,13 @@ std::string vtk_body_fix_error(const std::string& body_id, const std::string& st
 
 // Writes the body's current configuration with its BodyFields to path (write_vtu's exceptions).
 void write_body_vtu(const std::string& path, const Body& body);
+
+// parallel distributed: a frame is PREFIX_<step>.pvtu (body_frame_path with .pvtu) and one piece
+// per rank, PREFIX_<step>_p<rank>.vtu. write_body_piece writes this rank's part with the fields of
+// write_body_vtu plus global_node (point) and global_element (cell) numbers; rank 0 also writes
+// the .pvtu naming every rank's piece (no communication: the names follow from the rank count).
+std::string body_piece_path(const std::string& pvtu_path, int rank);
+void write_body_piece(const std::string& pvtu_path, int rank, int nprocs, const Body& body,
+                      const MeshPart& part);
 
 } // namespace fracdem
