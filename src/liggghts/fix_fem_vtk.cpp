@@ -64,28 +64,10 @@ void FixFemVtk::write_frame()
   if (update->ntimestep == last_written_) return;
   last_written_ = update->ntimestep;
   const double time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
-  if (body_->distributed()) return write_pieces(time);
-  // The body is replicated on every rank: rank 0 writes.
-  if (comm->me != 0) return;
-  const std::string path = fracdem::body_frame_path(prefix_, update->ntimestep);
   try {
-    fracdem::write_body_vtu(path, body_->body());
-    series_->add(time, path);
-  } catch (const std::exception& e) {
-    const std::string msg = std::string("fix fem/vtk: ") + e.what();
-    error->one(FLERR, msg.c_str());
-  }
-}
-
-// A distributed body: every rank writes its part as a piece, rank 0 the frame's .pvtu and the
-// series entry.
-void FixFemVtk::write_pieces(double time)
-{
-  std::string path = fracdem::body_frame_path(prefix_, update->ntimestep);
-  path = path.substr(0, path.size() - 4) + ".pvtu";
-  try {
-    fracdem::write_body_piece(path, comm->me, comm->nprocs, body_->body(), body_->part());
-    if (comm->me == 0) series_->add(time, path);
+    fracdem::write_body_frame(prefix_, update->ntimestep, time, comm->me, comm->nprocs,
+                              body_->body(), body_->distributed() ? &body_->part() : nullptr,
+                              *series_);
   } catch (const std::exception& e) {
     const std::string msg = std::string("fix fem/vtk: ") + e.what();
     error->one(FLERR, msg.c_str());

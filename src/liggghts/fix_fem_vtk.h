@@ -26,7 +26,6 @@ public:
 
 private:
   void write_frame();
-  void write_pieces(double time);
   std::string prefix_;
   std::string body_id_;
   class FixFemBody* body_ = nullptr;

@@ -375,7 +375,12 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 {
   const int nn = body_.num_nodes();
   body_.begin_forces();
-  if (distributed_) return distributed_forces(step, dt, count_work);
+  if (distributed_) {
+    if (particles)
+      fail(prefix() + "keyword 'parallel distributed': the body has no contact with particles "
+                      "yet; use 'parallel replicated' for a body that particles hit");
+    return distributed_forces(step, dt, count_work);
+  }
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
   // particles; one reduction makes every replica identical.

@@ -117,6 +117,20 @@ void write_body_vtu(const std::string& path, const Body& body)
   write_vtu(path, body.mesh(), body.positions().data(), f.fields());
 }
 
+void write_body_frame(const std::string& prefix, long long step, double time, int rank, int nprocs,
+                      const Body& body, const MeshPart* part, PvdSeries& series)
+{
+  std::string path = body_frame_path(prefix, step);
+  if (!part) {
+    if (rank != 0) return;
+    write_body_vtu(path, body);
+  } else {
+    path = path.substr(0, path.size() - 4) + ".pvtu";
+    write_body_piece(path, rank, nprocs, body, *part);
+  }
+  if (rank == 0) series.add(time, path);
+}
+
 std::string body_piece_path(const std::string& pvtu_path, int rank)
 {
   const std::string stem = pvtu_path.substr(0, pvtu_path.size() - 5); // drop ".pvtu"

@@ -59,6 +59,12 @@ void write_body_vtu(const std::string& path, const Body& body);
 // write_body_vtu plus global_node (point) and global_element (cell) numbers; rank 0 also writes
 // the .pvtu naming every rank's piece (no communication: the names follow from the rank count).
 std::string body_piece_path(const std::string& pvtu_path, int rank);
+
+// One frame of fix fem/vtk at a step, as both hosts write it: a replicated body (part null) by
+// rank 0 as body_frame_path(prefix, step); a distributed one in pieces (write_body_piece). Rank 0
+// adds the frame to the series. Every rank of a distributed body must call it.
+void write_body_frame(const std::string& prefix, long long step, double time, int rank, int nprocs,
+                      const Body& body, const MeshPart* part, PvdSeries& series);
 void write_body_piece(const std::string& pvtu_path, int rank, int nprocs, const Body& body,
                       const MeshPart& part);
 
