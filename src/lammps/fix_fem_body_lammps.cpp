@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <map>
+#include <memory>
 
 #include "atom.h"
 #include "comm.h"
@@ -22,6 +24,8 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "node_exchange.h"
+
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
@@ -32,25 +36,13 @@ const char* const kStyle = "fix fem/body";
 
 const char* const kContactSyntax =
     "'contact granular hertz/material E COR NU damping coeff_restitution|tsuji tangential "
-    "mindlin NULL XT MU|linear_nohistory XT 0 [rolling none] [twisting none]'";
+    "mindlin NULL XT MU|linear_nohistory XT 0 [rolling none] [twisting none]' or, with a given "
+    "stiffness, 'contact granular hooke|hertz K_N DAMP [damping none|velocity|mass_velocity|"
+    "viscoelastic|coeff_restitution|tsuji] tangential linear_history|mindlin K_T XT MU|"
+    "linear_nohistory XT MU'";
 
 // Steps between checks that the body is still inside the box (besides every re-neighbouring).
 constexpr int kBoxCheckEvery = 100;
-
-// LAMMPS's 'damping tsuji' coefficient for a coefficient of restitution: Marshall 2009, eq. 53
-// (GranSubModDampingTsuji::init of LAMMPS 22 Jul 2025; later LAMMPS versions multiply it by
-// sqrt(2), which the version check at load keeps out). tests/lammps/test_contact_hertz.py checks
-// it against LAMMPS's own fix wall/gran.
-double tsuji_coefficient(double cor)
-{
-  const double p[] = {1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218};
-  double d = 0, c = 1;
-  for (double a : p) {
-    d += a * c;
-    c *= cor;
-  }
-  return d;
-}
 
 // The restitution that the core's Hertz damping must be given to damp as a LAMMPS granular
 // damping coefficient D does: both are F_d = -D sqrt(m F_ne / delta) v_n, and the core writes
@@ -207,8 +199,7 @@ void FixFemBodyLammps::parse_contact(fracdem::SpecReader& r)
       {"synchronized_verlet", &FixFemBodyLammps::parse_contact_unsupported}};
   if (law_.on) contact_fail("given twice");
   law_.on = true;
-  parse_contact_normal(r);
-  std::size_t j = 6;
+  std::size_t j = parse_contact_normal(r);
   bool have_damping = false, have_tangential = false;
   while (r.has(j)) {
     auto it = options.find(r.word(j));
@@ -217,7 +208,7 @@ void FixFemBodyLammps::parse_contact(fracdem::SpecReader& r)
     have_tangential |= it->first == "tangential";
     j = (this->*(it->second))(r, j);
   }
-  if (!have_damping)
+  if (!have_damping && !law_.given_k)
     contact_fail("needs 'damping coeff_restitution' or 'damping tsuji': LAMMPS's default damping "
                  "(viscoelastic, where the second hertz/material value is eta_n0, not a "
                  "restitution) is not supported");
@@ -226,15 +217,16 @@ void FixFemBodyLammps::parse_contact(fracdem::SpecReader& r)
                              "'tangential mindlin NULL XT MU' or 'tangential linear_nohistory XT "
                              "0' ({})",
                              kContactSyntax));
-  if (law_.cor <= 0 || law_.cor > 1)
+  if (one_of(law_.damping, {"coeff_restitution", "tsuji"}) && (law_.cor <= 0 || law_.cor > 1))
     contact_fail(fmt::format("damping {} needs a coefficient of restitution COR in (0, 1] (the "
-                             "second hertz/material value), got {}",
-                             law_.tsuji ? "tsuji" : "coeff_restitution", law_.cor));
+                             "normal model's second value), got {}",
+                             law_.damping, law_.cor));
   r.take(j);
 }
 
-// granular hertz/material E COR NU (words 1 to 5 after 'contact').
-void FixFemBodyLammps::parse_contact_normal(const fracdem::SpecReader& r)
+// granular hertz/material E COR NU | hooke K_N DAMP | hertz K_N DAMP (words 1 to 5 or 4 after
+// 'contact'); returns the index of the word after the normal model.
+std::size_t FixFemBodyLammps::parse_contact_normal(const fracdem::SpecReader& r)
 {
   const std::string& style = contact_word(r, 1, "a granular style");
   if (one_of(style, {"hooke", "hooke/history", "hertz/history"}))
@@ -244,72 +236,108 @@ void FixFemBodyLammps::parse_contact_normal(const fracdem::SpecReader& r)
   if (style != "granular")
     contact_fail(fmt::format("expects 'granular', got '{}' ({})", style, kContactSyntax));
   const std::string& normal = contact_word(r, 2, "a normal model");
-  if (one_of(normal, {"hooke", "hertz"}))
-    contact_fail(fmt::format("normal model '{}' is not supported: the core's laws take the "
-                             "stiffness from the materials' elastic moduli (Hertz with E*), not "
-                             "a given k_n; use 'hertz/material E COR NU'",
-                             normal));
   if (one_of(normal, {"dmt", "jkr", "mdr"}))
     contact_fail(fmt::format("normal model '{}' is not supported: the core has no adhesion or "
-                             "plastic contact; use 'hertz/material E COR NU'",
+                             "plastic contact; use 'hertz/material E COR NU', 'hooke K_N DAMP' or "
+                             "'hertz K_N DAMP'",
                              normal));
+  if (one_of(normal, {"hooke", "hertz"})) return parse_given_stiffness(r, normal);
   if (normal != "hertz/material")
-    contact_fail(fmt::format("unknown normal model '{}' (supported: hertz/material)", normal));
+    contact_fail(
+        fmt::format("unknown normal model '{}' (supported: hertz/material, hooke, hertz)", normal));
   law_.E = contact_value(r, 3, "hertz/material E");
   law_.cor = contact_value(r, 4, "hertz/material COR (the damping coefficient)");
   law_.nu = contact_value(r, 5, "hertz/material NU");
   if (law_.E <= 0) contact_fail("hertz/material E must be > 0");
   if (law_.nu <= -1.0 || law_.nu >= 0.5) contact_fail("hertz/material NU must lie in (-1, 0.5)");
+  return 6;
 }
 
-// damping coeff_restitution|tsuji; returns the index after it.
+// hooke|hertz K_N DAMP: a given stiffness (F_ne = K_N delta | K_N a delta) and the damping
+// model's coefficient (a restitution for coeff_restitution and tsuji).
+std::size_t FixFemBodyLammps::parse_given_stiffness(const fracdem::SpecReader& r,
+                                                    const std::string& normal)
+{
+  law_.given_k = true;
+  law_.hooke = normal == "hooke";
+  law_.kn = contact_value(r, 3, law_.hooke ? "hooke K_N" : "hertz K_N");
+  law_.cor = contact_value(r, 4, law_.hooke ? "hooke DAMP" : "hertz DAMP");
+  if (law_.kn <= 0) contact_fail(fmt::format("{} K_N must be > 0, got {}", normal, law_.kn));
+  if (law_.cor < 0) contact_fail(fmt::format("{} DAMP must be >= 0, got {}", normal, law_.cor));
+  return 5;
+}
+
+// damping none|velocity|mass_velocity|viscoelastic|coeff_restitution|tsuji (hertz/material:
+// the last two only); returns the index after it.
 std::size_t FixFemBodyLammps::parse_contact_damping(const fracdem::SpecReader& r, std::size_t j)
 {
   const std::string& d = contact_word(r, j + 1, "a damping model");
-  if (one_of(d, {"viscoelastic", "velocity", "mass_velocity", "none", "mdr"}))
-    contact_fail(fmt::format("damping model '{}' is not supported: the core's damping force is "
-                             "D sqrt(m F_ne / delta) v_n (LIGGGHTS's), as LAMMPS's "
-                             "coeff_restitution and tsuji are; use 'damping coeff_restitution' "
-                             "or 'damping tsuji'",
+  if (d == "mdr")
+    contact_fail("damping model 'mdr' is not supported: it belongs to the mdr normal model");
+  if (!one_of(d,
+              {"none", "velocity", "mass_velocity", "viscoelastic", "coeff_restitution", "tsuji"}))
+    contact_fail(fmt::format("unknown damping model '{}' (supported: none velocity mass_velocity "
+                             "viscoelastic coeff_restitution tsuji)",
                              d));
-  if (!one_of(d, {"coeff_restitution", "tsuji"}))
-    contact_fail(fmt::format("unknown damping model '{}' (supported: coeff_restitution tsuji)", d));
+  if (!law_.given_k && !one_of(d, {"coeff_restitution", "tsuji"}))
+    contact_fail(fmt::format("damping model '{}' is not supported with hertz/material: the core's "
+                             "damping force there is D sqrt(m F_ne / delta) v_n (LIGGGHTS's), as "
+                             "LAMMPS's coeff_restitution and tsuji are; use 'damping "
+                             "coeff_restitution' or 'damping tsuji' (every model is supported "
+                             "with a given stiffness, hooke|hertz K_N DAMP)",
+                             d));
+  law_.damping = d;
   law_.tsuji = d == "tsuji";
   return j + 2;
 }
 
-// tangential mindlin NULL XT MU | linear_nohistory XT 0; returns the index after it.
+// tangential mindlin NULL XT MU | linear_nohistory XT 0 (hertz/material); linear_history|mindlin
+// K_T XT MU | linear_nohistory XT MU (hooke|hertz K_N DAMP); returns the index after it.
 std::size_t FixFemBodyLammps::parse_contact_tangential(const fracdem::SpecReader& r, std::size_t j)
 {
   const std::string& t = contact_word(r, j + 1, "a tangential model");
-  if (t == "mindlin") {
-    const std::string& k = contact_word(r, j + 2, "tangential mindlin k_t");
-    if (k != "NULL")
-      contact_fail(fmt::format("tangential mindlin k_t = {} is not supported: the core's "
-                               "tangential stiffness is 8 G* a from the materials; write NULL",
+  if (t == "mindlin" || (t == "linear_history" && law_.given_k)) {
+    const std::string& k = contact_word(r, j + 2, "tangential K_T");
+    if (law_.given_k) {
+      if (k == "NULL")
+        contact_fail(fmt::format("tangential {} K_T = NULL takes the stiffness from the "
+                                 "material (hertz/material); with {} K_N DAMP give K_T",
+                                 t, law_.hooke ? "hooke" : "hertz"));
+      law_.kt = contact_value(r, j + 2, ("tangential " + t + " K_T").c_str());
+      law_.kt_times_a = t == "mindlin"; // LAMMPS's mindlin: k_t a
+      // a sliding contact keeps the spring F / K_T
+      if (law_.kt <= 0)
+        contact_fail(fmt::format("tangential {} K_T must be > 0, got {}", t, law_.kt));
+    } else if (k != "NULL") {
+      contact_fail(fmt::format("tangential mindlin k_t = {} is not supported with "
+                               "hertz/material: the core's tangential stiffness is 8 G* a from "
+                               "the materials; write NULL",
                                k));
+    }
     law_.history = true;
-    law_.xt = contact_value(r, j + 3, "tangential mindlin XT");
-    law_.mu = contact_value(r, j + 4, "tangential mindlin MU");
+    const std::string xt = "tangential " + t + " XT", mu = "tangential " + t + " MU";
+    law_.xt = contact_value(r, j + 3, xt.c_str());
+    law_.mu = contact_value(r, j + 4, mu.c_str());
     j += 5;
   } else if (t == "linear_nohistory") {
     law_.history = false;
     law_.xt = contact_value(r, j + 2, "tangential linear_nohistory XT");
     law_.mu = contact_value(r, j + 3, "tangential linear_nohistory MU");
-    if (law_.mu != 0)
-      contact_fail("tangential linear_nohistory is supported frictionless only (MU = 0): with "
-                   "friction write 'tangential mindlin NULL XT MU'");
+    if (law_.mu != 0 && !law_.given_k)
+      contact_fail("tangential linear_nohistory is supported frictionless only (MU = 0) with "
+                   "hertz/material: with friction write 'tangential mindlin NULL XT MU'");
     j += 4;
   } else if (one_of(t, {"linear_history", "linear_history_classic", "mindlin_classic",
                         "mindlin/force", "mindlin_rescale", "mindlin_rescale/force"})) {
-    contact_fail(fmt::format("tangential model '{}' is not supported: the core's tangential "
-                             "spring is Mindlin's 8 G* a with Coulomb friction; use 'tangential "
-                             "mindlin NULL XT MU'",
-                             t));
+    contact_fail(fmt::format("tangential model '{}' is not supported{}: the core's tangential "
+                             "history is a displacement spring (Coulomb-capped); use 'tangential "
+                             "mindlin NULL XT MU' with hertz/material, 'linear_history|mindlin "
+                             "K_T XT MU' with hooke|hertz K_N DAMP",
+                             t, law_.given_k ? "" : " with hertz/material"));
   } else {
-    contact_fail(fmt::format("unknown tangential model '{}' (supported: mindlin NULL XT MU, "
-                             "linear_nohistory XT 0)",
-                             t));
+    contact_fail(fmt::format("unknown tangential model '{}' (supported: mindlin, linear_history, "
+                             "linear_nohistory; {})",
+                             t, kContactSyntax));
   }
   if (law_.xt < 0 || law_.mu < 0) contact_fail("tangential XT and MU must be >= 0");
   return j;
@@ -337,7 +365,13 @@ std::size_t FixFemBodyLammps::parse_contact_unsupported(const fracdem::SpecReade
 // gives the core's damping the coefficient of LAMMPS's damping model. All particle types share it.
 void FixFemBodyLammps::contact_setup()
 {
-  const double D = law_.tsuji ? tsuji_coefficient(law_.cor) : 0.0;
+  if (law_.given_k) {
+    contact_setup_given_k();
+    return;
+  }
+  // LAMMPS 22 Jul 2025's tsuji coefficient (later versions multiply it by sqrt(2), which the
+  // version check at load keeps out); tests/lammps/test_contact_hertz.py checks it.
+  const double D = law_.tsuji ? fracdem::tsuji_damping(law_.cor) : 0.0;
   const double e = law_.tsuji ? restitution_for_damping(D) : law_.cor;
   const double Eb = combined() ? spec_.material.E : 0.0, nub = combined() ? spec_.material.nu : 0.0;
   contact_material_ = fracdem::mix_materials(law_.E, law_.nu, Eb, nub, e, law_.mu, 1.0,
@@ -361,6 +395,31 @@ void FixFemBodyLammps::contact_setup()
                        law_.tsuji ? fmt::format(" (core restitution {:.6g})", e) : "",
                        law_.history ? "mindlin" : "linear_nohistory", law_.history ? xt_core : 0.0,
                        law_.mu));
+}
+
+// The core's law with a given stiffness: LAMMPS's hooke|hertz K_N DAMP, damping and tangential
+// coefficients as LAMMPS's granular models define them (fracdem::given_stiffness_law).
+void FixFemBodyLammps::contact_setup_given_k()
+{
+  static const std::map<std::string, fracdem::DampingModel> damping = {
+      {"none", fracdem::DampingModel::None},
+      {"velocity", fracdem::DampingModel::Velocity},
+      {"mass_velocity", fracdem::DampingModel::MassVelocity},
+      {"viscoelastic", fracdem::DampingModel::Viscoelastic},
+      {"coeff_restitution", fracdem::DampingModel::CoeffRestitution},
+      {"tsuji", fracdem::DampingModel::Tsuji}};
+  const auto model = law_.hooke ? fracdem::NormalModel::Hooke : fracdem::NormalModel::Hertz;
+  contact_material_ =
+      fracdem::given_stiffness_law(model, law_.kn, law_.cor, damping.at(law_.damping), law_.kt,
+                                   law_.kt_times_a, law_.xt, law_.mu, law_.history);
+  const std::string tangential =
+      !law_.history
+          ? "linear_nohistory"
+          : fmt::format("{} K_T {:g}", law_.kt_times_a ? "mindlin" : "linear_history", law_.kt);
+  log_line(fmt::format("fix fem/body {}: contact {} K_N {:g} DAMP {:g}, damping {} (coefficient "
+                       "{:.6g}), tangential {} XT {:g} MU {:g}\n",
+                       id, law_.hooke ? "hooke" : "hertz", law_.kn, law_.cor, law_.damping,
+                       contact_material_.given.c, tangential, law_.xt, law_.mu));
 }
 
 /* ---------------------------------------------------------------------- */
@@ -392,6 +451,12 @@ fracdem::BodyHost FixFemBodyLammps::host() const
   Error* err = error;
   h.warning = [err](const std::string& text) { err->warning(FLERR, text); };
   h.error_all = [err](const std::string& text) { err->all(FLERR, text); };
+  h.error_one = [err](const std::string& text) { err->one(FLERR, text); };
+  h.shared_sum_for = [w](const fracdem::MeshPart& part) {
+    auto exchange = std::make_shared<fracdem::NodeExchange>(w, part);
+    return std::function<void(double*, int)>(
+        [exchange](double* field, int width) { exchange->sum(field, width); });
+  };
   return h;
 }
 
@@ -590,14 +655,19 @@ void FixFemBodyLammps::check_in_box(const char* when)
   std::string msg =
       fmt::format("{} {}: mesh '{}' {}: ", kStyle, id, spec_.mesh_file,
                   when ? std::string(when) : fmt::format("at step {}", update->ntimestep));
-  if (placed) error->all(FLERR, msg + where + " (keywords 'move', 'scale', 'rotate' place it)");
+  // A distributed body's rank sees its own part only: it stops the run by itself.
+  auto stop = [this](const std::string& text) {
+    if (driver_.distributed()) error->one(FLERR, text);
+    error->all(FLERR, text);
+  };
+  if (placed) stop(msg + where + " (keywords 'move', 'scale', 'rotate' place it)");
   if (spec_.rigid) {
     if (spec_.motion.kind != fracdem::RigidMotion::None)
       msg += "its prescribed 'motion' has carried it out of the box: ";
-    error->all(FLERR, msg + where);
+    stop(msg + where);
   }
   warned_outside_ = true;
-  if (comm->me == 0)
+  if (comm->me == 0 || driver_.distributed())
     error->warning(FLERR, msg + "its nodes have moved out of the box: " + where +
                               " (warned once; the run goes on)");
 }

@@ -50,6 +50,9 @@ public:
   void restart(char*) override;
 
   const fracdem::Body& body() const { return driver_.body(); }
+  // parallel distributed: this rank holds part() of the body only.
+  bool distributed() const { return driver_.distributed(); }
+  const fracdem::MeshPart& part() const { return driver_.part(); }
   // Particle contact: per local particle, its facet checks and contacts in the last evaluation
   // (empty without `contact`); read by compute fracdem/cost.
   const fracdem::ParticleFacetContact& contact() const { return driver_.contact(); }
@@ -57,13 +60,19 @@ public:
 private:
   // The contact law as written after keyword 'contact' (LAMMPS's granular syntax, the supported
   // subset): hertz/material E COR NU, damping coeff_restitution|tsuji, tangential mindlin NULL XT
-  // MU | linear_nohistory XT 0.
+  // MU | linear_nohistory XT 0; or a given stiffness, hooke|hertz K_N DAMP, damping none|velocity|
+  // mass_velocity|viscoelastic|coeff_restitution|tsuji, tangential linear_history|mindlin K_T XT
+  // MU | linear_nohistory XT MU.
   struct ContactLaw {
     bool on = false;
-    double E = 0, cor = 0, nu = 0;
-    bool tsuji = false;    // damping tsuji (else coeff_restitution)
-    bool history = true;   // tangential mindlin (else linear_nohistory, frictionless)
-    double xt = 0, mu = 0; // tangential damping ratio and friction coefficient
+    double E = 0, cor = 0, nu = 0; // cor: the normal model's second value (DAMP for hooke|hertz)
+    bool tsuji = false;            // damping tsuji (else coeff_restitution)
+    bool history = true;           // tangential mindlin (else linear_nohistory, frictionless)
+    double xt = 0, mu = 0;         // tangential damping ratio and friction coefficient
+    // given stiffness (normal hooke|hertz): k_n, the damping model, k_t (mindlin: times a)
+    bool given_k = false, hooke = false, kt_times_a = false;
+    double kn = 0, kt = 0;
+    std::string damping = "viscoelastic"; // LAMMPS's default damping model
   };
   // compliance combined: the body's youngs/poisson enter E*, G*.
   bool combined() const { return spec_.compliance_combined > 0; }
@@ -78,12 +87,14 @@ private:
   void compute_forces();
   // keyword 'contact' and its parts (each returns the index of the word after it)
   void parse_contact(fracdem::SpecReader& r);
-  void parse_contact_normal(const fracdem::SpecReader& r);
+  std::size_t parse_contact_normal(const fracdem::SpecReader& r);
   std::size_t parse_contact_damping(const fracdem::SpecReader& r, std::size_t j);
   std::size_t parse_contact_tangential(const fracdem::SpecReader& r, std::size_t j);
+  std::size_t parse_given_stiffness(const fracdem::SpecReader& r, const std::string& normal);
   std::size_t parse_contact_none(const fracdem::SpecReader& r, std::size_t j);
   std::size_t parse_contact_unsupported(const fracdem::SpecReader& r, std::size_t j);
   void contact_setup();
+  void contact_setup_given_k();
   fracdem::ParticleArrays particle_arrays() const;
   std::string box_violation() const;
   void check_in_box(const char* when);

@@ -58,12 +58,11 @@ void FixFemVtkLammps::write_frame()
 {
   if (update->ntimestep == last_written_) return;
   last_written_ = update->ntimestep;
-  // The body is replicated on every rank: rank 0 writes.
-  if (comm->me != 0) return;
-  const std::string path = fracdem::body_frame_path(prefix_, update->ntimestep);
+  const double time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
   try {
-    fracdem::write_body_vtu(path, body_->body());
-    series_->add(update->atime + (update->ntimestep - update->atimestep) * update->dt, path);
+    fracdem::write_body_frame(prefix_, update->ntimestep, time, comm->me, comm->nprocs,
+                              body_->body(), body_->distributed() ? &body_->part() : nullptr,
+                              *series_);
   } catch (const std::exception& e) {
     error->one(FLERR, std::string("fix fem/vtk: ") + e.what());
   }

@@ -54,7 +54,7 @@ cases += [
     (f"{BODY} contact granula hertz/material 1e7 0.5 0.3", C + "expects 'granular', got 'granula'"),
     (f"{BODY} contact hooke/history 1e5 NULL 0 NULL 0.5 1", C + "style 'hooke/history'"),
     (f"{BODY} contact granular hertz/materal 1e7 0.5 0.3", C + "unknown normal model 'hertz/materal'"),
-    (f"{BODY} contact granular hooke 1e5 0.5 {DAMP} {TANG}", C + "normal model 'hooke' is not supported"),
+    (f"{BODY} contact granular hooke 1e5 0.5 {DAMP} {TANG}", C + "tangential mindlin K_T = NULL takes the stiffness from the material"),
     (f"{BODY} contact granular jkr 1e7 0.5 0.3 10", C + "normal model 'jkr' is not supported"),
     (f"{BODY} contact granular hertz/material 1e7 0.5", C + "expects hertz/material NU"),
     (f"{BODY} contact granular hertz/material 1e7 0.5 0.7 {DAMP} {TANG}", C + "hertz/material NU must lie in (-1, 0.5)"),
