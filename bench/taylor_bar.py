@@ -16,8 +16,9 @@ displacement_tail_y, displacement_foot_x), their errors against the published mi
 7.05 mm (only for completed runs), energy_err_pct (kinetic + strain + plastic + viscous work
 against the initial kinetic energy, largest over the rows), status ('ok', 'aborted: <the
 ERROR line>', or 'unstable: ...' for a run that completes with its energy balance off by more than
-5 %: a too-large step can blow up without inverting an element). A run that stops with an error is repeated like the others; its wall time is the
-wall clock of the command (start-up included: it prints no Loop time).
+5 %: a too-large step can blow up without inverting an element). A run that stops with an
+error is repeated like the others; its wall time is the wall clock of the command (start-up
+included: it prints no Loop time).
 
   python3 bench/taylor_bar.py [--exe build/fracdem] [--out bench/results] [--reps 3] [--meshes 4 6 8]
 

@@ -1,5 +1,5 @@
-// Linear tet4 / tri3 / quad4 kernels: small-strain and corotational internal forces, stress,
-// masses, dt.
+// Linear tet4 / tri3 / quad4 kernels: small-strain, corotational and (plastic laws) logarithmic-
+// strain corotational internal forces, stress, masses, dt.
 #include "fem/fe_space.h"
 
 #include "materials/material_table.h"
@@ -72,6 +72,126 @@ inline void polar_rotation(const double F[9], double R[9])
     }
     if (diff < 1e-8) break;
   }
+}
+
+// Logarithmic strain of the corotated stretch U (plastic laws under `model corotational`, see
+// quad_kernel_log). A stretch is floored at kMinStretch so that an element that has just inverted
+// (flagged, then eroded or the run stops) still yields finite numbers.
+constexpr double kMinStretch = 1e-8;
+
+// (ln a - ln b) / (a - b) for a, b > 0 (1 / a at a = b): the factor that maps a stress T
+// conjugate to ln U onto S = dW/dU in U's principal frame, S'_ij = T'_ij dlog(l_i, l_j). Written
+// 2 atanh(x) / (x (a + b)), x = (a - b) / (a + b), so that it stays exact as a -> b.
+inline double log_divided_difference(double a, double b)
+{
+  const double x = (a - b) / (a + b), x2 = x * x;
+  const double r = x2 < 1e-6 ? 1 + x2 * (1.0 / 3.0 + x2 / 5.0) : std::atanh(x) / x;
+  return 2 * r / (a + b);
+}
+
+// Off-diagonal factor of the first Piola stress in U's principal frame: with W(ln U) and F = R U,
+// dW = S : (R^T dF) - S : (Omega U), S = dW/dU (S'_ij = T'_ij dlog(l_i, l_j)), Omega = R^T dR.
+// skew(R^T dF) = (Omega U + U Omega) / 2 gives Omega'_ij = 2 skew(R^T dF)'_ij / (l_i + l_j), so
+// the rotation's term (zero for T coaxial with U) adds to the first and P = dW/dF = R Q M' Q^T,
+// M'_ij = S'_ij 2 l_i / (l_i + l_j): f = -dE/dx exactly at a frozen history.
+inline double stretch_stress_factor(double li, double lj)
+{
+  return log_divided_difference(li, lj) * 2 * li / (li + lj);
+}
+
+// In-plane corotated stretch U = R^T F (R: rotation2d's c, s), symmetric, in its principal frame:
+// stretches l1, l2 and the first principal direction (pc, ps).
+struct Stretch2 {
+  double l1, l2, pc, ps;
+  Stretch2(const double F[4], double c, double s)
+  {
+    const double a = c * F[0] + s * F[2], d = -s * F[1] + c * F[3];
+    const double b = 0.5 * ((c * F[1] + s * F[3]) + (-s * F[0] + c * F[2]));
+    const double m = 0.5 * (a + d), r = std::hypot(0.5 * (a - d), b);
+    const double ph = 0.5 * std::atan2(2 * b, a - d);
+    l1 = std::max(m + r, kMinStretch);
+    l2 = std::max(m - r, kMinStretch);
+    pc = std::cos(ph);
+    ps = std::sin(ph);
+  }
+  // ln U: xx, yy, xy (tensor shear).
+  void log(double L[3]) const
+  {
+    const double g1 = std::log(l1), g2 = std::log(l2);
+    L[0] = pc * pc * g1 + ps * ps * g2;
+    L[1] = ps * ps * g1 + pc * pc * g2;
+    L[2] = pc * ps * (g1 - g2);
+  }
+  // The in-plane T (conjugate to ln U; xx, yy, xy) -> M (xx, xy, yx, yy) with P = R M = dW/dF:
+  // in U's principal frame M'_ii = T'_ii / l_i, M'_ij = T'_ij dlog(l_i, l_j) 2 l_i / (l_i + l_j)
+  // (see stretch_stress_factor).
+  void force_stress(double xx, double yy, double xy, double M[4]) const
+  {
+    const double c = pc, s = ps;
+    const double t11 = c * c * xx + 2 * c * s * xy + s * s * yy;
+    const double t22 = s * s * xx - 2 * c * s * xy + c * c * yy;
+    const double t12 = c * s * (yy - xx) + (c * c - s * s) * xy;
+    const double a = t11 / l1, e = t22 / l2;
+    const double b = t12 * stretch_stress_factor(l1, l2), d = t12 * stretch_stress_factor(l2, l1);
+    M[0] = c * c * a - c * s * (b + d) + s * s * e;
+    M[1] = c * s * (a - e) + c * c * b - s * s * d;
+    M[2] = c * s * (a - e) + c * c * d - s * s * b;
+    M[3] = s * s * a + c * s * (b + d) + c * c * e;
+  }
+};
+
+// C = op(A) op(B) for 3x3 row-major matrices, op = transpose where asked.
+inline void mul3(const double* A, bool ta, const double* B, bool tb, double* C)
+{
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double v = 0;
+      for (int k = 0; k < 3; ++k)
+        v += (ta ? A[3 * k + i] : A[3 * i + k]) * (tb ? B[3 * j + k] : B[3 * k + j]);
+      C[3 * i + j] = v;
+    }
+}
+
+// A = Q diag(l) Q^T for a symmetric 3x3 A (row-major; Q's columns are the eigenvectors) by
+// cyclic Jacobi rotations: robust for (nearly) repeated stretches, where the eigenvectors are
+// ill-defined but Q diag(f(l)) Q^T is still accurate; converges quadratically.
+inline void sym_eigen3(const double A[9], double l[3], double Q[9])
+{
+  double a[9];
+  for (int k = 0; k < 9; ++k) {
+    a[k] = A[k];
+    Q[k] = k % 4 == 0 ? 1.0 : 0.0;
+  }
+  const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    const double off = a[1] * a[1] + a[2] * a[2] + a[5] * a[5];
+    if (!(off > 1e-32 * (a[0] * a[0] + a[4] * a[4] + a[8] * a[8]))) break;
+    for (const auto& pq : pairs) {
+      const int p = pq[0], q = pq[1];
+      const double apq = a[3 * p + q];
+      if (apq == 0) continue;
+      const double th = (a[3 * q + q] - a[3 * p + p]) / (2 * apq);
+      const double t = std::fabs(th) > 1e150
+                           ? 0.5 / th
+                           : std::copysign(1.0, th) / (std::fabs(th) + std::sqrt(th * th + 1));
+      const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+      for (int k = 0; k < 3; ++k) { // columns p, q of a and Q
+        const double akp = a[3 * k + p], akq = a[3 * k + q];
+        a[3 * k + p] = c * akp - s * akq;
+        a[3 * k + q] = s * akp + c * akq;
+        const double qkp = Q[3 * k + p], qkq = Q[3 * k + q];
+        Q[3 * k + p] = c * qkp - s * qkq;
+        Q[3 * k + q] = s * qkp + c * qkq;
+      }
+      for (int k = 0; k < 3; ++k) { // rows p, q of a
+        const double apk = a[3 * p + k], aqk = a[3 * q + k];
+        a[3 * p + k] = c * apk - s * aqk;
+        a[3 * q + k] = s * apk + c * aqk;
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+    l[i] = a[4 * i];
 }
 
 // Constitutive laws seen by the element kernels: strain in, stress (and updated state) out, per
@@ -388,6 +508,204 @@ inline double quad_kernel(const double* g, const double* u, Law& law, bool bbar_
   return energy;
 }
 
+// Logarithmic-strain corotational kernels (plastic laws, `model corotational`). The law gets
+// ln U of the corotated stretch U = R^T F (in 2D with the hoop stretch l_t = 1 + u_r / r, ln l_t)
+// and returns the stress T conjugate to it per unit reference volume: the rotated Kirchhoff
+// stress, Cauchy = R T R^T / J. The forces are f = -dE/dx with P = dW/dF formed in U's
+// principal frame (Stretch2 / sym_eigen3, stretch_stress_factor), the rotation's variation
+// included, so they are exact for any stress (not only one coaxial with U) at a frozen history.
+// Isochoric plastic flow in ln U keeps the volume at any strain, which U - I does not.
+
+// R T R^T / J into sig (xx, yy, zz|hoop, xy); t: the law's Voigt stress (tensor shear).
+inline void add_cauchy_2d(double c, double s, const double t[6], double scale, double* sig)
+{
+  sig[0] += scale * (c * c * t[0] - 2 * c * s * t[3] + s * s * t[1]);
+  sig[1] += scale * (s * s * t[0] + 2 * c * s * t[3] + c * c * t[1]);
+  sig[2] += scale * t[2];
+  sig[3] += scale * (c * s * (t[0] - t[1]) + (c * c - s * s) * t[3]);
+}
+
+// Tet4, one point (see tet_kernel). detF: det F.
+template <class Law>
+inline double tet_kernel_log(const double* g, const double* u, Law& law, double* fl, double& detF,
+                             double* sig)
+{
+  const double* dN = g;
+  const double V = g[12];
+  double F[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  for (int a = 0; a < 4; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        F[3 * i + j] += u[3 * a + i] * dN[3 * a + j];
+  detF = det3(F);
+  double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, U[9], Q[9], l[3], gl[3];
+  if (detF > 0) polar_rotation(F, R);
+  mul3(R, true, F, false, U);
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j)
+      U[3 * i + j] = U[3 * j + i] = 0.5 * (U[3 * i + j] + U[3 * j + i]);
+  sym_eigen3(U, l, Q);
+  for (int i = 0; i < 3; ++i) {
+    l[i] = std::max(l[i], kMinStretch);
+    gl[i] = std::log(l[i]);
+  }
+  double L[9]; // ln U = Q diag(gl) Q^T
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      L[3 * i + j] = Q[3 * i] * gl[0] * Q[3 * j] + Q[3 * i + 1] * gl[1] * Q[3 * j + 1] +
+                     Q[3 * i + 2] * gl[2] * Q[3 * j + 2];
+  const double eps[6] = {L[0], L[4], L[8], 2 * L[1], 2 * L[5], 2 * L[2]};
+  double t[6];
+  const double w2 = law(eps, gl[0] + gl[1] + gl[2], 0, t);
+  const double T[9] = {t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2]};
+  double A[9], B[9], P[9];
+  mul3(T, false, Q, false, A);
+  mul3(Q, true, A, false, B); // T' = Q^T T Q, then M' (stretch_stress_factor), P = R Q M' Q^T
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      B[3 * i + j] *= i == j ? 1.0 / l[i] : stretch_stress_factor(l[i], l[j]);
+  mul3(B, false, Q, true, A);
+  mul3(Q, false, A, false, B);
+  mul3(R, false, B, false, P);
+  if (sig) {
+    mul3(T, false, R, true, A);
+    mul3(R, false, A, false, B);
+    const double inv = 1.0 / std::max(detF, 1e-300);
+    const double c[6] = {B[0], B[4], B[8], B[1], B[5], B[2]};
+    for (int k = 0; k < 6; ++k)
+      sig[k] = inv * c[k];
+  }
+  for (int a = 0; a < 4; ++a) {
+    const double d0 = V * dN[3 * a], d1 = V * dN[3 * a + 1], d2 = V * dN[3 * a + 2];
+    for (int i = 0; i < 3; ++i)
+      fl[3 * a + i] = -(P[3 * i] * d0 + P[3 * i + 1] * d1 + P[3 * i + 2] * d2);
+  }
+  return 0.5 * V * w2;
+}
+
+// In-plane deformation gradient and hoop stretch of a 2D point (dN, hoop of its block).
+inline void point_gradient(const double* dN, const double* hoop, const double* u, int nn,
+                           double F[4], double& lt)
+{
+  F[0] = F[3] = 1;
+  F[1] = F[2] = 0;
+  lt = 1;
+  for (int a = 0; a < nn; ++a) {
+    const double ux = u[2 * a], uy = u[2 * a + 1], dx = dN[2 * a], dy = dN[2 * a + 1];
+    F[0] += ux * dx;
+    F[1] += ux * dy;
+    F[2] += uy * dx;
+    F[3] += uy * dy;
+    lt += hoop[a] * ux;
+  }
+}
+
+// Tri3, one point (see tri_kernel). detJ: det F times the hoop stretch (the volume ratio).
+template <class Law>
+inline double tri_kernel_log(const double* g, const double* u, Law& law, double* fl, double& detJ,
+                             double* sig)
+{
+  const double* dN = g;
+  const double w = g[6];
+  const double* hoop = g + 7;
+  double F[4], lt, c, s, L[3];
+  point_gradient(dN, hoop, u, 3, F, lt);
+  detJ = (F[0] * F[3] - F[1] * F[2]) * lt;
+  rotation2d(F, c, s);
+  const Stretch2 U(F, c, s);
+  U.log(L);
+  lt = std::max(lt, kMinStretch);
+  const double gt = std::log(lt);
+  const double eps[6] = {L[0], L[1], gt, 2 * L[2], 0, 0};
+  double t[6];
+  const double w2 = law(eps, L[0] + L[1] + gt, 0, t);
+  double M[4];
+  U.force_stress(t[0], t[1], t[3], M);
+  const double sth = t[2] / lt;
+  const double P0 = c * M[0] - s * M[2], P1 = c * M[1] - s * M[3];
+  const double P2 = s * M[0] + c * M[2], P3 = s * M[1] + c * M[3];
+  for (int a = 0; a < 3; ++a) {
+    const double dx = w * dN[2 * a], dy = w * dN[2 * a + 1];
+    fl[2 * a] = -(P0 * dx + P1 * dy + sth * w * hoop[a]);
+    fl[2 * a + 1] = -(P2 * dx + P3 * dy);
+  }
+  if (sig) {
+    sig[0] = sig[1] = sig[2] = sig[3] = 0;
+    add_cauchy_2d(c, s, t, 1.0 / std::max(detJ, 1e-300), sig);
+  }
+  return 0.5 * w * w2;
+}
+
+// Quad4, 2x2 Gauss (see quad_kernel), with the volumetric part taken from the element's volume
+// ratio J_bar = sum_q w_q J_q / W (an F-bar for the dilatation: theta_bar = ln J_bar, which is
+// exactly the element's volume change, where the mean of ln J_q would not be):
+// eps_bar = ln U_q + (theta_bar - theta_q) / 3 I, theta_q = ln J_q, and with
+// b_a(q) = d theta_q / d x_a = F_q^-T grad N_a + hoop_a / l_t e_x (current gradients),
+// d theta_bar / d x_a = sum_q w_q J_q b_a(q) / (W J_bar). detmin: the smallest J_q.
+template <class Law>
+inline double quad_kernel_log(const double* g, const double* u, Law& law, bool bbar_on, double* fl,
+                              double& detmin, double* sig)
+{
+  double F[4][4], cq[4], sq[4], lt[4], L[4][3], gt[4], th[4], Jq[4], jf[4];
+  double W = 0, WJ = 0;
+  detmin = 1e300;
+  for (int q = 0; q < 4; ++q) {
+    const double* gq = g + q * kQuadPoint;
+    point_gradient(gq, gq + 9, u, 4, F[q], lt[q]);
+    jf[q] = F[q][0] * F[q][3] - F[q][1] * F[q][2];
+    Jq[q] = jf[q] * lt[q];
+    detmin = std::min(detmin, Jq[q]);
+    rotation2d(F[q], cq[q], sq[q]);
+    Stretch2(F[q], cq[q], sq[q]).log(L[q]);
+    lt[q] = std::max(lt[q], kMinStretch);
+    jf[q] = std::max(jf[q], kMinStretch);
+    gt[q] = std::log(lt[q]);
+    th[q] = L[q][0] + L[q][1] + gt[q];
+    W += gq[8];
+    WJ += gq[8] * Jq[q];
+  }
+  WJ = std::max(WJ, kMinStretch * W);
+  const double thbar = std::log(WJ / W);
+  for (int k = 0; k < 8; ++k)
+    fl[k] = 0;
+  double bbar[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  double psum = 0, energy = 0;
+  if (sig) sig[0] = sig[1] = sig[2] = sig[3] = 0;
+  for (int q = 0; q < 4; ++q) {
+    const double* gq = g + q * kQuadPoint;
+    const double* dN = gq;
+    const double w = gq[8];
+    const double* hoop = gq + 9;
+    const double c = cq[q], s = sq[q], *Fq = F[q];
+    const double d = bbar_on ? (thbar - th[q]) / 3.0 : 0.0;
+    const double eps[6] = {L[q][0] + d, L[q][1] + d, gt[q] + d, 2 * L[q][2], 0, 0};
+    double t[6];
+    const double w2 = law(eps, bbar_on ? thbar : th[q], q, t);
+    const double p = bbar_on ? (t[0] + t[1] + t[2]) / 3.0 : 0.0;
+    double M[4];
+    Stretch2(Fq, c, s).force_stress(t[0], t[1], t[3], M);
+    const double sth = t[2] / lt[q];
+    const double P0 = c * M[0] - s * M[2], P1 = c * M[1] - s * M[3];
+    const double P2 = s * M[0] + c * M[2], P3 = s * M[1] + c * M[3];
+    for (int a = 0; a < 4; ++a) {
+      const double dx = dN[2 * a], dy = dN[2 * a + 1];
+      const double bx = (Fq[3] * dx - Fq[2] * dy) / jf[q] + hoop[a] / lt[q];
+      const double by = (-Fq[1] * dx + Fq[0] * dy) / jf[q];
+      fl[2 * a] -= w * (P0 * dx + P1 * dy + sth * hoop[a] - p * bx);
+      fl[2 * a + 1] -= w * (P2 * dx + P3 * dy - p * by);
+      bbar[2 * a] += w * Jq[q] * bx;
+      bbar[2 * a + 1] += w * Jq[q] * by;
+    }
+    psum += w * p;
+    energy += 0.5 * w * w2;
+    if (sig) add_cauchy_2d(c, s, t, 0.25 / std::max(bbar_on ? WJ / W : Jq[q], 1e-300), sig);
+  }
+  const double pw = psum / WJ;
+  for (int k = 0; k < 8; ++k)
+    fl[k] -= pw * bbar[k];
+  return energy;
+}
+
 void quad_shape(double xi, double eta, double N[4], double dNdxi[4][2])
 {
   const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
@@ -539,10 +857,15 @@ std::string elem_msg(int e, const std::string& what)
 
 // One element: gathers its nodal displacements, runs its kernel. fl: local forces (3 per node for
 // tets, 2 per node in 2D); sig (optional): Voigt 6 (tet) or 4 (2D: xx, yy, zz|hoop, xy).
+// The laws that see the logarithmic strain under `model corotational` (the others keep U - I:
+// elastic and Rankine bodies are small-strain laws in the corotated frame).
+template <class Law> constexpr bool kLogStrain = std::is_same_v<Law, PlasticLaw>;
+
 template <bool Corot, class Law>
 double element_kernel(ElemType t, const int* c, const double* g, const double* X, const double* x,
                       Law& law, bool bbar_on, double* fl, double& detF, double* sig)
 {
+  constexpr bool kLog = Corot && kLogStrain<Law>;
   if (t == ElemType::Tet4) {
     double u[12];
     for (int a = 0; a < 4; ++a) {
@@ -551,6 +874,7 @@ double element_kernel(ElemType t, const int* c, const double* g, const double* X
       u[3 * a + 1] = x[n + 1] - X[n + 1];
       u[3 * a + 2] = x[n + 2] - X[n + 2];
     }
+    if constexpr (kLog) return tet_kernel_log(g, u, law, fl, detF, sig);
     return tet_kernel<Corot>(g, u, law, fl, detF, sig);
   }
   const int nn = t == ElemType::Tri3 ? 3 : 4;
@@ -559,6 +883,10 @@ double element_kernel(ElemType t, const int* c, const double* g, const double* X
     const int n = 3 * c[a];
     u[2 * a] = x[n] - X[n];
     u[2 * a + 1] = x[n + 1] - X[n + 1];
+  }
+  if constexpr (kLog) {
+    if (t == ElemType::Tri3) return tri_kernel_log(g, u, law, fl, detF, sig);
+    return quad_kernel_log(g, u, law, bbar_on, fl, detF, sig);
   }
   if (t == ElemType::Tri3) return tri_kernel<Corot>(g, u, law, fl, detF, sig);
   return quad_kernel<Corot>(g, u, law, bbar_on, fl, detF, sig);
@@ -618,6 +946,7 @@ void FeSpace::build(const Mesh& mesh, const Material& mat)
   const std::string bad = material_setup_error(mat, mesh.dim);
   if (!bad.empty()) throw std::invalid_argument("fracdem: " + bad);
   mat_ = mat;
+  log_strain_ = mat.kinematics == Kinematics::Corotational && mat.plastic_model();
   dim_ = mesh.dim;
   axisym_ = mesh.dim == 2 && mat.plane == PlaneMode::Axisymmetric;
   const int ne = mesh.num_elems();
@@ -748,7 +1077,9 @@ auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_o
     return fn(law);
   }
   if (mat.plastic_model()) {
-    PlasticLaw law{mat.plasticity(), stress_mode(mat, dim), dt, state_offset, state};
+    J2Params jp = mat.plasticity();
+    jp.log_strain = mat.kinematics == Kinematics::Corotational; // see kLogStrain
+    PlasticLaw law{jp, stress_mode(mat, dim), dt, state_offset, state};
     return fn(law);
   }
   ElasticLaw law{mat.in_plane_lambda(dim), mat.mu(),
@@ -1008,7 +1339,17 @@ double FeSpace::omega2_of(const Mesh& mesh, int e, const double* g_current) cons
   };
 
   double C = bound_of(&geo_[offset_[e]]);
-  if (g_current) C = std::max(C, bound_of(g_current));
+  if (g_current) {
+    double Cc = bound_of(g_current);
+    // Logarithmic-strain kernels: the stiffness of tau (per unit REFERENCE volume) in the current
+    // gradients is that of the current geometry times W0 / W = 1 / J (grows under compression).
+    if (log_strain_) {
+      double bw[12];
+      const double W0 = weighted_gradients(t, &geo_[offset_[e]], bw);
+      Cc *= std::max(1.0, W0 / weighted_gradients(t, g_current, bw));
+    }
+    C = std::max(C, Cc);
+  }
   return C / mmin;
 }
 

@@ -27,6 +27,11 @@ struct FeError : std::runtime_error {
 //   Quad4 : bilinear, 2x2 Gauss, B-bar (volume-averaged dilatation) against volumetric locking.
 // Kinematics::Corotational: polar rotation R of F per element / Gauss point, P = R sigma(R^T F -
 // I); exactly invariant under rigid rotation and f = -dE/dx exactly (isotropic material).
+// Plastic laws (Material::plastic_model) under Corotational see the logarithmic strain ln U of
+// U = R^T F instead and return the rotated Kirchhoff stress tau (Cauchy = R tau R^T / J), so that
+// isochoric plastic flow keeps the volume at finite strain; quad4 then takes its B-bar dilatation
+// from the element's volume ratio (ln of the mean J). SmallStrain ("model elastic") feeds every
+// law the small strain sym(grad u): a small-strain / small-rotation model only.
 class FeSpace
 {
 public:
@@ -64,7 +69,8 @@ public:
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
   // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R
-  // (corotational).
+  // (corotational); plastic corotational: R tau R^T / J (J: the element's volume ratio for quad4
+  // with B-bar, the point's otherwise).
   // state: as for add_internal_forces; read only (evaluated on a copy).
   void element_stress(const Mesh& mesh, const double* x, int e, double sigma[6],
                       const double* state = nullptr) const;
@@ -130,6 +136,7 @@ private:
   void element_masses(const Mesh& mesh, int e, double me[4]) const;
 
   Material mat_;
+  bool log_strain_ = false; // plastic law under `model corotational`: ln U (see fe_space.cpp)
   bool axisym_ = false;
   int dim_ = 3;
   std::vector<int> offset_;          // start of element e's block in geo_

@@ -95,7 +95,14 @@ void finish_stress(const J2Params& p, const double e[6], const double s[6], doub
   const double K = p.E / (3 * (1 - 2 * p.nu));
   const double th_old = st[kEpsPrev] + st[kEpsPrev + 1] + st[kEpsPrev + 2];
   const double p_old = -(st[kSigPrev] + st[kSigPrev + 1] + st[kSigPrev + 2]) / 3.0;
-  const double pr = eos_step(p.eos, K, p.rho, th_old, e[0] + e[1] + e[2], p_old, dwp, st[kEnergy]);
+  const double th = e[0] + e[1] + e[2];
+  double pr;
+  if (p.log_strain) { // theta = ln J, stored stress Kirchhoff: the EOS works in J - 1 and Cauchy p
+    const double J_old = std::exp(th_old), J = std::exp(th);
+    pr = J * eos_step(p.eos, K, p.rho, J_old - 1, J - 1, p_old / J_old, dwp, st[kEnergy]);
+  } else {
+    pr = eos_step(p.eos, K, p.rho, th_old, th, p_old, dwp, st[kEnergy]);
+  }
   for (int k = 0; k < 3; ++k)
     sigma[k] = s[k] - pr;
   for (int k = 3; k < 6; ++k)

@@ -52,6 +52,15 @@ namespace fracdem
 //  * Returned energy: recoverable energy density s:s / (4 mu) + W_vol, W_vol = E - W_p the stored
 //    volumetric work (0.5 K theta^2 for the linear EOS).
 //
+//  * Logarithmic strain (log_strain, set by the corotational kernels, fem/fe_space.cpp): eps =
+//    ln U of the corotated stretch, theta = ln J, and the same update gives the Kirchhoff stress
+//    tau (work-conjugate to ln U per unit reference volume; Cauchy = tau / J, J = det F). Plastic
+//    flow that is isochoric in ln U keeps the volume exactly at any strain. The EOS is a law of
+//    the true relative volume: it is stepped from J_old - 1 to J - 1 (J = exp(theta)) with the
+//    Cauchy pressure p_old = tau_p,old / J_old, and returns tau_p = J p (Linear: tau_p =
+//    -K J (J - 1)); its energy sum -p dJ is then the volumetric work per unit reference volume.
+//    Without the flag (small-strain kernels) theta is the small-strain dilatation J - 1.
+//
 // Stress modes (Voigt order xx, yy, zz, xy, yz, zx, ENGINEERING shear in eps):
 //   Solid        : full 3D.
 //   PlaneStrain  : yz = zx = 0 enforced; eps_zz is taken as given (0 from tri3, the B-bar
@@ -91,14 +100,18 @@ struct J2Params {
   double E = 0, nu = 0, rho = 0;
   PlasticParams plastic;
   EosParams eos;
+  // eps is the logarithmic strain ln U of the corotational kernels and sigma the (rotated)
+  // Kirchhoff stress conjugate to it (see the notes): the EOS then sees the true relative volume.
+  bool log_strain = false;
 };
 
 constexpr int kPlasticStateSize = 24;
 constexpr double kTaylorQuinney = 0.9;
 
-// Stress update. eps: small strain, Voigt, engineering shear. dt: time since the previous call
-// (<= 0: none, see the notes). state: kPlasticStateSize doubles, updated in place. sigma: Cauchy
-// stress, Voigt (out). Returns the recoverable energy density (see the notes).
+// Stress update. eps: small strain (ln U with log_strain), Voigt, engineering shear. dt: time
+// since the previous call (<= 0: none, see the notes). state: kPlasticStateSize doubles, updated
+// in place. sigma: Cauchy stress (Kirchhoff with log_strain), Voigt (out). Returns the
+// recoverable energy density per unit reference volume (see the notes).
 double plastic_stress(const J2Params& p, StressMode mode, const double eps[6], double dt,
                       double* state, double sigma[6]);
 
