@@ -8,9 +8,9 @@
 
 #include "fix.h"
 
-#include "fem/body_driver.h"
-#include "fem/body_setup.h"
-#include "fem/body_spec.h"
+#include "body/body_driver.h"
+#include "body/body_setup.h"
+#include "body/body_spec.h"
 
 namespace LAMMPS_NS
 {

@@ -10,7 +10,7 @@
 #include "update.h"
 
 #include "fix_fem_body_lammps.h"
-#include "io/body_fields.h"
+#include "body/body_fields.h"
 #include "io/vtk_writer.h"
 
 using namespace LAMMPS_NS;

@@ -19,7 +19,7 @@
 #include "update.h"
 
 #include "contact/granular_law.h"
-#include "fem/body_setup.h"
+#include "body/body_setup.h"
 #include "node_exchange.h"
 
 using namespace LAMMPS_NS;

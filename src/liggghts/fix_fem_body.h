@@ -9,7 +9,7 @@
 
 #include "fe_only_scene.h"
 
-#include "fem/body_driver.h"
+#include "body/body_driver.h"
 
 namespace LAMMPS_NS
 {

@@ -11,7 +11,7 @@
 #include "update.h"
 
 #include "fix_fem_body.h"
-#include "io/body_fields.h"
+#include "body/body_fields.h"
 #include "io/vtk_writer.h"
 
 using namespace LAMMPS_NS;

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "fem/body_partition.h"
+#include "body/body_partition.h"
 
 namespace fracdem
 {

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "fem/body.h"
-#include "fem/body_partition.h"
-#include "fem/body_setup.h"
+#include "body/body_partition.h"
+#include "body/body_setup.h"
 #include "io/mesh_generators.h"
 #include "node_exchange.h"
 

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "fem/body_driver.h"
-#include "fem/body_setup.h"
+#include "body/body_driver.h"
+#include "body/body_setup.h"
 #include "io/gmsh_reader.h"
 #include "io/mesh_generators.h"
 #include "test_support.h"

@@ -8,7 +8,7 @@
 #include <set>
 
 #include "fem/body.h"
-#include "fem/body_partition.h"
+#include "body/body_partition.h"
 #include "io/mesh_generators.h"
 
 using namespace fracdem;

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "fem/body_setup.h"
-#include "fem/body_spec.h"
+#include "body/body_setup.h"
+#include "body/body_spec.h"
 #include "io/gmsh_reader.h"
 #include "io/mesh_generators.h"
 #include "test_support.h"

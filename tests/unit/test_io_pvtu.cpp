@@ -9,7 +9,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPUnstructuredGridReader.h>
 
-#include "fem/body_partition.h"
+#include "body/body_partition.h"
 #include "io/mesh_generators.h"
 #include "io/pvtu_writer.h"
 #include "test_support.h"

@@ -60,7 +60,7 @@ public:
   void impose_velocity_conditions();
   void set_rigid_motion(const RigidMotion& motion) { motion_ = motion; }
   // A part of a distributed body lumps at the nodes it shares only its own elements' mass; the
-  // host sums the parts' masses (InterfaceSum, fem/body_partition.h) and sets the totals here.
+  // host sums the parts' masses (InterfaceSum, body/body_partition.h) and sets the totals here.
   void set_masses(const std::vector<double>& mass);
   // A part of a distributed body counts in its sums over nodes (kinetic energy, momentum,
   // contact and gravity work, reactions, total contact force, axis shield) only the nodes it

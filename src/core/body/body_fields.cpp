@@ -1,5 +1,5 @@
 // Assembly of a body's output fields (displacement, stress, fracture, plastic state) for write_vtu.
-#include "io/body_fields.h"
+#include "body/body_fields.h"
 
 #include "io/pvtu_writer.h"
 

@@ -11,8 +11,8 @@
 #include "contact/particle_facet.h"
 #include "contact/surface_contact.h"
 #include "fem/body.h"
-#include "fem/body_partition.h"
-#include "fem/body_spec.h"
+#include "body/body_partition.h"
+#include "body/body_spec.h"
 #include "fracture/nodal_fracture.h"
 
 namespace fracdem
@@ -33,7 +33,7 @@ struct BodyHost {
   // error_all.
   std::function<void(const std::string&)> error_one;
   // parallel distributed: the sum of per-node values over the parts that share each node
-  // (fem/body_partition.h InterfaceSum over MPI, src/parallel/node_exchange.h) for this rank's
+  // (body/body_partition.h InterfaceSum over MPI, src/parallel/node_exchange.h) for this rank's
   // part. Unset: the host cannot hold distributed bodies.
   std::function<std::function<void(double*, int)>(const MeshPart&)> shared_sum_for;
 };

@@ -1,5 +1,5 @@
 // fix fem/body's settings: the one keyword table, its handlers, the parser and the checks.
-#include "fem/body_spec.h"
+#include "body/body_spec.h"
 
 #include <algorithm>
 #include <cerrno>

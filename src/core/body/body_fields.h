@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "fem/body.h"
-#include "fem/body_partition.h"
+#include "body/body_partition.h"
 #include "io/vtk_writer.h"
 
 namespace fracdem

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "fem/body.h"
-#include "fem/body_partition.h"
-#include "fem/body_spec.h"
+#include "body/body_partition.h"
+#include "body/body_spec.h"
 
 namespace fracdem
 {

@@ -1,5 +1,5 @@
 // Element partitions of a distributed body: dual graph, METIS parts, part meshes, interface sums.
-#include "fem/body_partition.h"
+#include "body/body_partition.h"
 
 #include <algorithm>
 #include <stdexcept>

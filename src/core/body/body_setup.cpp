@@ -1,5 +1,5 @@
 // Set-up of fix fem/body's Body from a BodySpec: mesh, placement, checks, conditions, work split.
-#include "fem/body_setup.h"
+#include "body/body_setup.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,5 +1,5 @@
 // BodyDriver: the per-step orchestration of a fix fem/body body, shared by the host adapters.
-#include "fem/body_driver.h"
+#include "body/body_driver.h"
 
 #include <algorithm>
 #include <cinttypes>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "contact/contact_resolution.h"
-#include "fem/body_setup.h"
+#include "body/body_setup.h"
 #include "fem/erosion.h"
 #include "materials/rankine.h"
 
