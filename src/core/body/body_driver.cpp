@@ -366,6 +366,7 @@ void BodyDriver::end_step(std::int64_t step, double dt)
 {
   if (spec_->rigid) return;
   body_.half_kick(dt);
+  if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
   write_energy_row_if_due(step);
 }
@@ -443,6 +444,23 @@ void BodyDriver::distributed_forces(std::int64_t step, double dt, bool count_wor
                     " (NaN/Inf in the body state)",
                     id_.c_str(), step));
   body_.finish_forces(energy, gravity_, dt, count_work);
+}
+
+// Elements squeezed by the deformation (impact, plastic flow) shorten the stable step that set-up
+// measured: warned once, with the figures, before the run loses stability. Each rank checks what
+// it holds (a distributed body its part: no collective).
+void BodyDriver::check_squeezed(std::int64_t step, double dt)
+{
+  if (warned_squeezed_) return;
+  const double now = stable_time_step_after_erosion(body_, spec_->erosion);
+  if (!(now < dt)) return;
+  warned_squeezed_ = true;
+  const std::string text =
+      format("fix fem/body %s: at step %" PRId64 " the stable FE time step of the deformed body "
+             "is %g < host time step %g (%g at set-up): its elements have been squeezed and the "
+             "run can lose stability (an element inverts or the energy grows); reduce 'timestep'",
+             id_.c_str(), step, now, dt, dt_stable_);
+  if (distributed_ || host_.rank == 0) host_.warning(text);
 }
 
 // Once per run: a particle hits the body faster than the time step can follow (every rank

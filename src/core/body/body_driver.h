@@ -143,6 +143,7 @@ private:
   void warn(const std::string& text) const; // rank 0
   std::string prefix() const { return "fix fem/body " + id_ + ": "; }
   void check_crack_band();
+  void check_squeezed(std::int64_t step, double dt);
   double internal_forces(std::int64_t step, double dt, int& first_inverted);
   double forces_after_erosion(std::int64_t step, double dt, double energy, int& first_inverted);
   void after_erosion(std::int64_t step, double dt, const int* counts,
@@ -187,6 +188,9 @@ private:
   int ncontacts_ = 0;
   bool velocities_applied_ = false, restarted_ = false;
   bool warned_slots_ = false, warned_unresolved_ = false, warned_dt_after_erosion_ = false;
+  bool warned_squeezed_ = false;
+  // Steps between checks of the deformed body's stable step (O(elements), ~1 % of the step).
+  static constexpr int kStableStepCheckEvery = 100;
   std::FILE* energy_fp_ = nullptr;
   std::int64_t last_energy_step_ = -1;
 };
