@@ -24,7 +24,7 @@
 #include "neighbor.h"
 #include "update.h"
 
-#include "node_exchange.h"
+#include "mpi_body_host.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -429,20 +429,11 @@ void FixFemBodyLammps::log_line(const std::string& line) const
   if (comm->me == 0) utils::logmesg(lmp, line);
 }
 
-// The host's reductions (over world), this rank and its output, for the core's BodyDriver.
+// The core's BodyDriver gets the MPI services over world and this host's output and errors.
 fracdem::BodyHost FixFemBodyLammps::host() const
 {
   fracdem::BodyHost h;
-  h.rank = comm->me;
-  h.nprocs = comm->nprocs;
-  MPI_Comm w = world;
-  auto reduce = [w](MPI_Op op) {
-    return [w, op](double* a, int n) { MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_DOUBLE, op, w); };
-  };
-  h.sum = reduce(MPI_SUM);
-  h.max = reduce(MPI_MAX);
-  h.min = reduce(MPI_MIN);
-  h.max_int = [w](int* a, int n) { MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_INT, MPI_MAX, w); };
+  fracdem::add_mpi_services(h, world);
   LAMMPS* host = lmp;
   h.print = [host](const std::string& line, bool to_screen, bool to_log) {
     if (to_screen && host->screen) fputs(line.c_str(), host->screen);
@@ -452,11 +443,6 @@ fracdem::BodyHost FixFemBodyLammps::host() const
   h.warning = [err](const std::string& text) { err->warning(FLERR, text); };
   h.error_all = [err](const std::string& text) { err->all(FLERR, text); };
   h.error_one = [err](const std::string& text) { err->one(FLERR, text); };
-  h.shared_sum_for = [w](const fracdem::MeshPart& part) {
-    auto exchange = std::make_shared<fracdem::NodeExchange>(w, part);
-    return std::function<void(double*, int)>(
-        [exchange](double* field, int width) { exchange->sum(field, width); });
-  };
   return h;
 }
 

@@ -20,7 +20,7 @@
 
 #include "contact/granular_law.h"
 #include "body/body_setup.h"
-#include "node_exchange.h"
+#include "mpi_body_host.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -78,20 +78,11 @@ int FixFemBody::setmask()
   return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE | PRE_NEIGHBOR;
 }
 
-// The host's reductions (over world), this rank and its output, for the core's BodyDriver.
+// The core's BodyDriver gets the MPI services over world and this host's output and errors.
 fracdem::BodyHost FixFemBody::host() const
 {
   fracdem::BodyHost h;
-  h.rank = comm->me;
-  h.nprocs = comm->nprocs;
-  MPI_Comm w = world;
-  auto reduce = [w](MPI_Op op) {
-    return [w, op](double* a, int n) { MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_DOUBLE, op, w); };
-  };
-  h.sum = reduce(MPI_SUM);
-  h.max = reduce(MPI_MAX);
-  h.min = reduce(MPI_MIN);
-  h.max_int = [w](int* a, int n) { MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_INT, MPI_MAX, w); };
+  fracdem::add_mpi_services(h, world);
   LAMMPS* host = lmp;
   h.print = [host](const std::string& line, bool to_screen, bool to_log) {
     if (to_screen && host->screen) fputs(line.c_str(), host->screen);
@@ -101,11 +92,6 @@ fracdem::BodyHost FixFemBody::host() const
   h.warning = [err](const std::string& text) { err->warning(FLERR, text.c_str()); };
   h.error_all = [err](const std::string& text) { err->all(FLERR, text.c_str()); };
   h.error_one = [err](const std::string& text) { err->one(FLERR, text.c_str()); };
-  h.shared_sum_for = [w](const fracdem::MeshPart& part) {
-    auto exchange = std::make_shared<fracdem::NodeExchange>(w, part);
-    return std::function<void(double*, int)>(
-        [exchange](double* field, int width) { exchange->sum(field, width); });
-  };
   return h;
 }
 
