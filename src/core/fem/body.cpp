@@ -43,6 +43,7 @@ void Body::resize_nodes(int nn)
   held_.resize(nn, 0);
   ramp_.resize(nn, 0.0);
   bc_group_.resize(nn, -1);
+  component_group_.resize(3 * static_cast<std::size_t>(nn), -1);
   parent_.resize(nn, -1);
   mass_.resize(nn, 0.0);
   inv_mass_.resize(nn, 0.0);
@@ -102,6 +103,8 @@ void Body::set_fixed(const std::vector<int>& nodes, int mask, int group)
     held_[n] = bc_[n] == NodeBc::Partial ? (held_[n] | mask) : mask;
     bc_[n] = held_[n] == 7 ? NodeBc::Fixed : NodeBc::Partial;
     bc_group_[n] = group;
+    for (int d = 0; d < 3; ++d)
+      if (mask >> d & 1) component_group_[3 * n + d] = group;
   }
   open_reaction_group(group);
 }
@@ -114,6 +117,8 @@ void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v
     held_[n] = 7;
     ramp_[n] = ramp;
     bc_group_[n] = group;
+    for (int d = 0; d < 3; ++d)
+      component_group_[3 * n + d] = group;
     for (int d = 0; d < 3; ++d)
       v_prescribed_[3 * n + d] = v[d];
   }
@@ -430,15 +435,16 @@ void Body::add_reactions(double dt, bool count_work)
   std::fill(reactions_.begin(), reactions_.end(), 0.0);
   double dw = 0;
   for (int n = 0; n < num_nodes(); ++n) {
-    const int g = bc_group_[n];
-    if (g < 0 || bc_[n] == NodeBc::Free || !counted(n)) continue;
+    if (bc_[n] == NodeBc::Free || !counted(n)) continue;
     const double rate = bc_[n] == NodeBc::Prescribed ? ramp_rate(n, time_) : 0.0;
-    for (int d = 0; d < 3; ++d)
-      if (held_[n] >> d & 1) {
+    for (int d = 0; d < 3; ++d) {
+      const int g = component_group_[3 * n + d];
+      if (g >= 0 && (held_[n] >> d & 1)) {
         const double r = mass_[n] * v_prescribed_[3 * n + d] * rate - f_[3 * n + d];
         reactions_[3 * g + d] += r;
         dw += r * v_[3 * n + d];
       }
+    }
   }
   if (count_work) boundary_work_ += dt * dw;
 }
@@ -483,6 +489,8 @@ int Body::split_node(const SplitPlan& plan)
   held_[copy] = held_[node];
   ramp_[copy] = ramp_[node];
   bc_group_[copy] = bc_group_[node];
+  for (int d = 0; d < 3; ++d)
+    component_group_[3 * copy + d] = component_group_[3 * node + d];
   parent_[copy] = node;
   // The copy takes its elements' share of the lumped mass, the node keeps the rest (including
   // that of eroded elements), so the sum is unchanged; the force is shared like the mass, so
@@ -608,7 +616,8 @@ std::size_t Body::memory_bytes() const
         &v_prescribed_, &ramp_, &reactions_, &state_, &viscous_work_, &viscous_force_prev_,
         &viscous_force_, &viscous_rate_})
     b += vector_bytes(*v);
-  b += vector_bytes(bc_) + vector_bytes(held_) + vector_bytes(bc_group_) + vector_bytes(parent_);
+  b += vector_bytes(bc_) + vector_bytes(held_) + vector_bytes(bc_group_) + vector_bytes(parent_) +
+       vector_bytes(component_group_);
   b += vector_bytes(stars_.offset) + vector_bytes(stars_.elems);
   return b;
 }
@@ -717,8 +726,12 @@ void Body::unpack_state(const double* buf)
     for (int n = 0; n < nn; ++n)
       bc_group_[n] = static_cast<int>(p[2 * nn + n]);
     p += 2 * nn;
-    for (int n = 0; n < nn; ++n)
+    for (int n = 0; n < nn; ++n) {
       parent_[n] = static_cast<int>(p[nn + n]);
+      if (parent_[n] >= 0) // a split copy: its parent's groups (parents precede their copies)
+        for (int d = 0; d < 3; ++d)
+          component_group_[3 * n + d] = component_group_[3 * parent_[n] + d];
+    }
     std::copy(p + 2 * nn, p + 3 * nn, mass_.begin());
     p += 3 * nn;
     for (int e = 0; e < ne; ++e)

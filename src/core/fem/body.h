@@ -229,8 +229,12 @@ private:
   std::vector<double> v_prescribed_;
   std::vector<std::uint8_t> held_; // held components (bit d), Partial nodes
   std::vector<double> ramp_;       // prescribed-velocity ramp time per node (0: none)
-  std::vector<int> bc_group_;      // reaction group per node (-1: none)
-  std::vector<double> reactions_;  // 3 per group
+  std::vector<int> bc_group_;      // reaction group per node (-1: none; restart record)
+  // Reaction group of each held component (3 per node): a node held in x by one group and in y
+  // by another reports each reaction to its own group. Set by the conditions (not stored in
+  // restart files: rebuilt from the command, split copies take their parent's).
+  std::vector<int> component_group_;
+  std::vector<double> reactions_; // 3 per group
   std::vector<int> parent_;
   std::vector<double> state_; // per integration point, see FeSpace::state_offset
   BulkViscosity viscosity_;
