@@ -22,18 +22,12 @@ import os
 import re
 import statistics
 import subprocess
+import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-
-
-def mpirun(np_):
-    cmd = ["mpirun", "-np", str(np_)]
-    if os.geteuid() == 0:
-        cmd.append("--allow-run-as-root")
-    if np_ > (os.cpu_count() or 1):
-        cmd.append("--oversubscribe")
-    return cmd
+sys.path.insert(0, os.path.join(ROOT, "tests", "integration"))
+from harness import mpirun  # noqa: E402  (root and oversubscription flags, as the tests run)
 
 
 def run(check, np_, cells, steps, mode, model):

@@ -19,14 +19,7 @@ using namespace fracdem;
 namespace
 {
 
-Material steel()
-{
-  Material m;
-  m.E = 2e11;
-  m.nu = 0.3;
-  m.rho = 7800;
-  return m;
-}
+using fracdem_test::steel;
 
 // Sum over nodes of mass (d = -1) or of mass * velocity component d.
 double total(const Body& b, int d)

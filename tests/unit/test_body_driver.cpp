@@ -16,14 +16,7 @@ using namespace fracdem;
 namespace
 {
 
-std::vector<std::string> split(const std::string& line)
-{
-  std::istringstream in(line);
-  std::vector<std::string> words;
-  for (std::string w; in >> w;)
-    words.push_back(w);
-  return words;
-}
+using fracdem_test::split;
 
 // The rankine bar of tests/integration/in.fracture_bar (40 x 10 tri3 cells, 0.2 x 0.05 m, plane
 // stress 0.05 m thick), pulled at xmax; time step 5e-7 s.

@@ -10,6 +10,7 @@
 #include "fem/body.h"
 #include "body/body_partition.h"
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 using namespace fracdem;
 
@@ -155,10 +156,7 @@ TEST_P(BodyPartition, PartsInLockstepFollowTheWholeBody)
 {
   const ElemType type = GetParam();
   const Mesh mesh = test_mesh(type);
-  Material steel;
-  steel.E = 2e11;
-  steel.nu = 0.3;
-  steel.rho = 7800;
+  Material steel = fracdem_test::steel();
   steel.kinematics = Kinematics::Corotational;
   auto velocity = [&](const double* X, double* v) {
     v[0] = 2.0 * X[1];

@@ -15,14 +15,7 @@ using namespace fracdem;
 namespace
 {
 
-std::vector<std::string> split(const std::string& line)
-{
-  std::istringstream in(line);
-  std::vector<std::string> words;
-  for (std::string w; in >> w;)
-    words.push_back(w);
-  return words;
-}
+using fracdem_test::split;
 
 const char* const kBody = "type 2 density 7800 youngs 2e11 poisson 0.3";
 

@@ -9,6 +9,7 @@
 #include "fem/body.h"
 #include "fem/mesh.h"
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 using namespace fracdem;
 
@@ -50,14 +51,7 @@ void expect_reference(const Mesh& mesh, const char* what)
   }
 }
 
-Material steel()
-{
-  Material m;
-  m.E = 2e11;
-  m.nu = 0.3;
-  m.rho = 7800;
-  return m;
-}
+using fracdem_test::steel;
 
 } // namespace
 

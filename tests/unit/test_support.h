@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <sstream>
 #include <fstream>
 #include <string>
 #include <system_error>
@@ -16,6 +17,7 @@
 #include "balance/graph_partition.h"
 #include "contact/particle_facet.h"
 #include "fem/mesh.h"
+#include "materials/material.h"
 
 namespace fracdem_test
 {
@@ -126,5 +128,25 @@ struct OneParticle {
     return p;
   }
 };
+
+// A command line split at blanks (as a host hands a fix its words).
+inline std::vector<std::string> split(const std::string& line)
+{
+  std::istringstream in(line);
+  std::vector<std::string> words;
+  for (std::string w; in >> w;)
+    words.push_back(w);
+  return words;
+}
+
+// Structural steel, small-strain elastic (E 200 GPa, nu 0.3, 7800 kg/m^3).
+inline fracdem::Material steel()
+{
+  fracdem::Material m;
+  m.E = 2e11;
+  m.nu = 0.3;
+  m.rho = 7800;
+  return m;
+}
 
 } // namespace fracdem_test
