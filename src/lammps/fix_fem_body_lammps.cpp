@@ -679,12 +679,7 @@ double FixFemBodyLammps::compute_vector(int i)
 
 void FixFemBodyLammps::write_restart(FILE* fp)
 {
-  if (comm->me != 0) return;
-  const std::vector<double> buf = driver_.restart_record();
-  // LAMMPS reads the size in bytes, then that many bytes.
-  const int nbytes = static_cast<int>(buf.size() * sizeof(double));
-  fwrite(&nbytes, sizeof(int), 1, fp);
-  fwrite(buf.data(), sizeof(double), buf.size(), fp);
+  if (comm->me == 0) driver_.write_restart(fp);
 }
 
 void FixFemBodyLammps::restart(char* raw)

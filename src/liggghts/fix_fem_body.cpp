@@ -378,12 +378,7 @@ double FixFemBody::compute_vector(int i)
 
 void FixFemBody::write_restart(FILE* fp)
 {
-  if (comm->me != 0) return;
-  const std::vector<double> buf = driver_.restart_record();
-  // The host reads the size in bytes, then that many bytes.
-  const int nbytes = static_cast<int>(buf.size() * sizeof(double));
-  fwrite(&nbytes, sizeof(int), 1, fp);
-  fwrite(buf.data(), sizeof(double), buf.size(), fp);
+  if (comm->me == 0) driver_.write_restart(fp);
 }
 
 void FixFemBody::restart(char* raw)

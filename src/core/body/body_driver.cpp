@@ -893,6 +893,14 @@ std::vector<double> BodyDriver::restart_record() const
   return buf;
 }
 
+void BodyDriver::write_restart(std::FILE* fp) const
+{
+  const std::vector<double> buf = restart_record();
+  const int nbytes = static_cast<int>(buf.size() * sizeof(double));
+  std::fwrite(&nbytes, sizeof(int), 1, fp);
+  std::fwrite(buf.data(), sizeof(double), buf.size(), fp);
+}
+
 // The head (after marker and length): placement, then sections. The stored state keeps the
 // stored placement (reference coordinates included), so a command that places the body
 // otherwise, or changes 'rigid', would be silently overruled: refused.

@@ -110,6 +110,9 @@ public:
 
   // ---- restart: the adapter head (placement, piece contact) and the body's record ----
   std::vector<double> restart_record() const;
+  // Writes the record as LIGGGHTS and LAMMPS read a fix's global restart: its size in bytes
+  // (int), then the bytes. Called on rank 0 only.
+  void write_restart(std::FILE* fp) const;
   // Restores a record of restart_record() (or an older one without the head); errors name the
   // fix and go to error_all.
   void read_restart(const double* record);
