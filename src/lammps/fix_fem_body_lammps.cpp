@@ -679,7 +679,7 @@ double FixFemBodyLammps::compute_vector(int i)
 
 void FixFemBodyLammps::write_restart(FILE* fp)
 {
-  if (comm->me == 0) driver_.write_restart(fp);
+  driver_.write_restart(fp); // every rank: a distributed body gathers its parts
 }
 
 void FixFemBodyLammps::restart(char* raw)

@@ -378,7 +378,7 @@ double FixFemBody::compute_vector(int i)
 
 void FixFemBody::write_restart(FILE* fp)
 {
-  if (comm->me == 0) driver_.write_restart(fp);
+  driver_.write_restart(fp); // every rank: a distributed body gathers its parts
 }
 
 void FixFemBody::restart(char* raw)

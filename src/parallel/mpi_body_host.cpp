@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "node_exchange.h"
 
@@ -22,6 +23,23 @@ void add_mpi_services(BodyHost& host, MPI_Comm comm)
   host.min = reduce(MPI_MIN);
   host.max_int = [comm](int* a, int n) {
     MPI_Allreduce(MPI_IN_PLACE, a, n, MPI_INT, MPI_MAX, comm);
+  };
+  host.gather = [comm](const std::vector<double>& mine) {
+    int rank = 0, size = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    int count = static_cast<int>(mine.size());
+    std::vector<int> counts(rank == 0 ? size : 0), starts(rank == 0 ? size : 0);
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+    std::vector<double> all;
+    if (rank == 0) {
+      for (int r = 1; r < size; ++r)
+        starts[r] = starts[r - 1] + counts[r - 1];
+      all.resize(static_cast<size_t>(starts[size - 1]) + counts[size - 1]);
+    }
+    MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), starts.data(),
+                MPI_DOUBLE, 0, comm);
+    return all;
   };
   host.shared_sum_for = [comm](const MeshPart& part) {
     auto exchange = std::make_shared<NodeExchange>(comm, part);

@@ -486,6 +486,15 @@ TEST(BodySpec, CheckResolvesDefaults)
   EXPECT_EQ(s.viscosity_mode, 0);
   EXPECT_FALSE(s.viscosity.on);
   EXPECT_EQ(s.contact_bodies, 0);
+  // A breaking body's pieces collide by default; written out, 'no' stays no.
+  const std::string breaking =
+      std::string(kBody) + " material rankine strength 3e6 fracture_energy 100 fracture nodal";
+  BodySpec b = parse(breaking);
+  check_body_spec(b, {}, 4, 3);
+  EXPECT_EQ(b.contact_bodies, 1);
+  b = parse(breaking + " contact_bodies no");
+  check_body_spec(b, {}, 4, 3);
+  EXPECT_EQ(b.contact_bodies, 0);
   s = parse(std::string(kBody) + " material j2 yield 3e8 hardening 1e9");
   check_body_spec(s, {}, 4, 3);
   EXPECT_TRUE(s.viscosity.on); // on for plastic materials

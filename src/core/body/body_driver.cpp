@@ -9,6 +9,7 @@
 
 #include "contact/contact_resolution.h"
 #include "body/body_setup.h"
+#include "body/part_restart.h"
 #include "fem/erosion.h"
 #include "materials/rankine.h"
 
@@ -633,10 +634,10 @@ void BodyDriver::fracture(std::int64_t step, double dt)
   if (body_.damaged_points() == 0) return;
   FailureMap& map = failure_map_;
   if (build_failure_map(body_, map) == 0) return;
-  const std::vector<int> points = crack_points(map);
+  const std::vector<int> points = crack_points(body_.mesh(), map);
   std::vector<SplitEvent> events;
   if (!points.empty()) events = insert_cracks(body_, points);
-  const int eroded = erode_collapsed(step, dt, map.element_measure);
+  const int eroded = erode_collapsed(step, dt, map.failed);
   if (events.empty() && eroded == 0) return;
   // Replicas must stay identical: a rank that split differently stops the run at once.
   int counts[2] = {body_.num_nodes(), -body_.num_nodes()};
@@ -659,12 +660,12 @@ void BodyDriver::fracture(std::int64_t step, double dt)
 
 // A failed element (no tension left) that has been squeezed into a sliver would collapse the
 // stable time step of the whole body: it is eroded (logged; its nodes keep their mass).
-int BodyDriver::erode_collapsed(std::int64_t step, double dt, const std::vector<double>& failure)
+// failed: the elements at failure measure 1, ascending (FailureMap::failed).
+int BodyDriver::erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed)
 {
   std::vector<int> eroded;
-  const Mesh& mesh = body_.mesh();
-  for (int e = 0; e < static_cast<int>(failure.size()); ++e) {
-    if (!mesh.active[e] || failure[e] < 1.0) continue;
+  for (int e : failed) {
+    if (!body_.mesh().active[e]) continue;
     if (!spec_->erode_cracked && body_.element_time_step(e) >= dt) continue;
     eroded.push_back(e);
     print(format(
@@ -679,12 +680,18 @@ int BodyDriver::erode_collapsed(std::int64_t step, double dt, const std::vector<
 void BodyDriver::log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const
 {
   const bool each_on_screen = events.size() <= 4;
-  for (const SplitEvent& ev : events)
-    print(format("fix fem/body %s: step %" PRId64
-                 ": crack at node %d -> new node %d, normal (%.3f %.3f %.3f), %d elements moved\n",
-                 id_.c_str(), step, ev.node, ev.copy, ev.normal[0], ev.normal[1], ev.normal[2],
-                 ev.elements_moved),
+  for (const SplitEvent& ev : events) {
+    // A separation (zero normal) has no failure plane: it frees pieces that touched only at
+    // the node, which the cracks around it had already cut apart.
+    const bool separation = ev.normal[0] == 0 && ev.normal[1] == 0 && ev.normal[2] == 0;
+    const std::string plane =
+        separation ? std::string("pieces that touched only at it separated")
+                   : format("normal (%.3f %.3f %.3f)", ev.normal[0], ev.normal[1], ev.normal[2]);
+    print(format("fix fem/body %s: step %" PRId64 ": crack at node %d -> new node %d, %s, %d "
+                 "elements moved\n",
+                 id_.c_str(), step, ev.node, ev.copy, plane.c_str(), ev.elements_moved),
           each_on_screen, true);
+  }
   if (!each_on_screen)
     print(format("fix fem/body %s: step %" PRId64 ": %zu node splits (see log)\n", id_.c_str(),
                  step, events.size()),
@@ -868,11 +875,9 @@ double BodyDriver::distributed_vector_entry(int i)
   return value;
 }
 
-std::vector<double> BodyDriver::restart_record() const
+// Marker, length, placement, sections (the pieces' contacts).
+std::vector<double> BodyDriver::record_head() const
 {
-  if (distributed_)
-    fail_one(prefix() + "restart files of a 'parallel distributed' body are not supported yet; "
-                        "use 'parallel replicated' for runs that write restart files");
   std::vector<double> buf = {kRecordHead, 0.0, spec_->rigid ? 1.0 : 0.0,
                              static_cast<double>(spec_->transforms.size())};
   for (const MeshTransform& t : spec_->transforms) {
@@ -887,18 +892,60 @@ std::vector<double> BodyDriver::restart_record() const
     buf.insert(buf.end(), self_state.begin(), self_state.end());
   }
   buf[1] = static_cast<double>(buf.size() - 2);
+  return buf;
+}
+
+std::vector<double> BodyDriver::restart_record() const
+{
+  std::vector<double> buf = record_head();
   std::vector<double> body;
-  body_.pack_state(body);
+  if (distributed_)
+    body = distributed_body_record();
+  else
+    body_.pack_state(body);
   buf.insert(buf.end(), body.begin(), body.end());
   return buf;
 }
 
+// The parts' nodes and elements, gathered on rank 0 into one record of the whole body
+// (part_restart.h), which any rank count reads; the other ranks get nothing.
+std::vector<double> BodyDriver::distributed_body_record() const
+{
+  const std::vector<double> mine = pack_part_state(body_, &part_);
+  const std::vector<double> all = host_.gather ? host_.gather(mine) : mine;
+  if (host_.rank != 0) return {};
+  try {
+    return merge_part_states(all, global_nodes_, global_elems_);
+  } catch (const std::exception& e) {
+    fail_one(prefix() + e.what());
+  }
+  return {};
+}
+
 void BodyDriver::write_restart(std::FILE* fp) const
 {
+  if (!distributed_ && host_.rank != 0) return; // a replicated body: rank 0 holds it all
   const std::vector<double> buf = restart_record();
+  if (host_.rank != 0) return;
   const int nbytes = static_cast<int>(buf.size() * sizeof(double));
   std::fwrite(&nbytes, sizeof(int), 1, fp);
   std::fwrite(buf.data(), sizeof(double), buf.size(), fp);
+}
+
+// A body record: the whole body's (Body::pack_state) or the parts' (part_restart.h), read by a
+// whole body or by this rank's part, at any rank count.
+void BodyDriver::read_body_record(const double* record)
+{
+  if (record[0] == kPartsRecordVersion) {
+    unpack_parts_record(record, body_, distributed_ ? &part_ : nullptr,
+                        !distributed_ || host_.rank == 0);
+    return;
+  }
+  if (!distributed_) return body_.unpack_state(record);
+  Body whole; // the record of a replicated run: restored whole, then this part taken from it
+  build_body(*spec_, dimension_, whole);
+  whole.unpack_state(record);
+  copy_whole_into_part(whole, body_, part_, host_.rank == 0);
 }
 
 // The head (after marker and length): placement, then sections. The stored state keeps the
@@ -942,7 +989,7 @@ void BodyDriver::read_restart(const double* record)
     record += 2 + n;
   }
   try {
-    body_.unpack_state(record);
+    read_body_record(record);
   } catch (const std::exception& e) {
     fail(prefix() + e.what() + " (mesh '" + spec_->mesh_file +
          "'); use the same mesh file and transforms as the run that wrote it");

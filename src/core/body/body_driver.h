@@ -36,6 +36,9 @@ struct BodyHost {
   // (body/body_partition.h InterfaceSum over MPI, src/parallel/node_exchange.h) for this rank's
   // part. Unset: the host cannot hold distributed bodies.
   std::function<std::function<void(double*, int)>(const MeshPart&)> shared_sum_for;
+  // Every rank's values, in rank order, on rank 0 (empty on the others): the restart record of a
+  // distributed body. Entered by every rank. Unset: one rank (its own values).
+  std::function<std::vector<double>(const std::vector<double>&)> gather;
 };
 // A host of one rank (reductions do nothing; print, warning and errors go to the given sinks;
 // unit tests collect them). error_all throws std::runtime_error(text) when none is given.
@@ -111,7 +114,8 @@ public:
   // ---- restart: the adapter head (placement, piece contact) and the body's record ----
   std::vector<double> restart_record() const;
   // Writes the record as LIGGGHTS and LAMMPS read a fix's global restart: its size in bytes
-  // (int), then the bytes. Called on rank 0 only.
+  // (int), then the bytes. Called on every rank (a distributed body gathers its parts); only rank
+  // 0 writes to fp.
   void write_restart(std::FILE* fp) const;
   // Restores a record of restart_record() (or an older one without the head); errors name the
   // fix and go to error_all.
@@ -152,7 +156,7 @@ private:
   void after_erosion(std::int64_t step, double dt, const int* counts,
                      const std::vector<int>& batch);
   void erode_inverted(std::int64_t step, int e);
-  int erode_collapsed(std::int64_t step, double dt, const std::vector<double>& failure);
+  int erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed);
   void log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const;
   void log_fragments(std::int64_t step);
   void warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res);
@@ -167,6 +171,9 @@ private:
   void build_distributed(int dimension);
   void fail_one(const std::string& text) const;
   void read_head(const double* head, int n, const double*& self_state, size_t& self_size);
+  std::vector<double> record_head() const;
+  std::vector<double> distributed_body_record() const;
+  void read_body_record(const double* record);
 
   const BodySpec* spec_ = nullptr;
   std::string id_;

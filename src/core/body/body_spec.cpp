@@ -563,9 +563,9 @@ void resolve_defaults(BodySpec& s)
     s.viscosity_mode =
         !s.rigid && (s.material.plastic_model() || s.material.eos.model != EosModel::Linear);
   s.viscosity.on = s.viscosity_mode > 0;
-  // Off unless asked for: with the rotating crack, contact between fragments can feed energy
-  // into fully cracked elements (docs/fracture.md, restrictions).
-  if (s.contact_bodies < 0) s.contact_bodies = 0;
+  // A breaking body's pieces collide unless told otherwise (fragments must not pass through each
+  // other); other bodies opt in, as body-body contact costs serial work every step.
+  if (s.contact_bodies < 0) s.contact_bodies = s.fracture_every > 0 ? 1 : 0;
   if (s.contact_bodies && s.rigid) fail("keyword 'contact_bodies yes' needs a deformable body");
   check_erosion(s);
   check_distributed(s);

@@ -74,7 +74,7 @@ struct BodySpec {
   double buffer = -1;           // search buffer; < 0: the host's neighbour skin
   int history_slots = 8;
   // ---- body-body contact ----
-  int contact_bodies = -1; // -1: default (no)
+  int contact_bodies = -1; // -1: default (yes with fracture, else no)
   double contact_penalty = 0.1;
   // ---- run ----
   bool dt_check_error = true; // dt_check error|warn

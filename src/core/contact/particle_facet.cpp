@@ -272,6 +272,14 @@ ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, cons
 {
   ParticleFacetResult res;
   if (facets_.empty()) return res;
+  if (p.n == 0) {
+    // No particle on this rank (an FE-only scene, or a rank whose particles are elsewhere):
+    // nothing to search, and no node travel to watch; the first particle rebuilds the search.
+    checks_.clear();
+    contacts_.clear();
+    search_stale_ = true;
+    return res;
+  }
   // The search covers only this rank's particles against the replicated body, so each rank
   // decides on its own when to rebuild (no collective needed).
   if (search_is_stale(p, x, nnodes_)) rebuild_search(p, x, nnodes_);

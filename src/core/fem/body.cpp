@@ -777,4 +777,58 @@ void Body::unpack_state(const double* buf)
     inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
 }
 
+Body::Accounts Body::accounts() const
+{
+  Accounts a;
+  a.time = time_;
+  a.external = external_work_;
+  a.contact = contact_work_;
+  a.boundary = boundary_work_;
+  a.shield_work = shield_work_;
+  a.shield_hits = static_cast<double>(shield_hits_);
+  return a;
+}
+
+void Body::set_accounts(const Accounts& a)
+{
+  time_ = a.time;
+  external_work_ = a.external;
+  contact_work_ = a.contact;
+  boundary_work_ = a.boundary;
+  shield_work_ = a.shield_work;
+  shield_hits_ = static_cast<long>(a.shield_hits);
+}
+
+void Body::set_node_motion(int n, const double* xv)
+{
+  std::copy(xv, xv + 3, &x_[3 * n]);
+  std::copy(xv + 3, xv + 6, &v_[3 * n]);
+}
+
+int Body::element_record_size(int e) const
+{
+  return space_.state_offset(e + 1) - space_.state_offset(e) + (viscosity_.on ? 3 : 0);
+}
+
+void Body::pack_element(int e, double* out) const
+{
+  const int n = element_record_size(e) - (viscosity_.on ? 3 : 0);
+  const double* state = state_.data() + space_.state_offset(e);
+  std::copy(state, state + n, out);
+  if (!viscosity_.on) return;
+  out[n] = viscous_work_[e];
+  out[n + 1] = viscous_force_prev_[e];
+  out[n + 2] = viscous_rate_[e];
+}
+
+void Body::unpack_element(int e, const double* in)
+{
+  const int n = element_record_size(e) - (viscosity_.on ? 3 : 0);
+  std::copy(in, in + n, state_.data() + space_.state_offset(e));
+  if (!viscosity_.on) return;
+  viscous_work_[e] = in[n];
+  viscous_force_prev_[e] = in[n + 1];
+  viscous_rate_[e] = in[n + 2];
+}
+
 } // namespace fracdem

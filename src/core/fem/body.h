@@ -196,6 +196,22 @@ public:
   // std::runtime_error when the record does not fit this body's mesh.
   void unpack_state(const double* buf);
 
+  // ---- the state a run of an unbroken body changes, piece by piece (restart of distributed
+  // bodies at any rank count: each part contributes its nodes and elements by global index) ----
+  // Clock and work accounts (a part's share; the body's are the sums over the parts).
+  struct Accounts {
+    double time = 0, external = 0, contact = 0, boundary = 0, shield_work = 0, shield_hits = 0;
+  };
+  Accounts accounts() const;
+  void set_accounts(const Accounts& a);
+  // Node n's position and velocity (6 doubles).
+  void set_node_motion(int n, const double* xv);
+  // Element e's history: its points' material state, then with bulk viscosity its viscous work,
+  // last viscous force and strain rate.
+  int element_record_size(int e) const;
+  void pack_element(int e, double* out) const;
+  void unpack_element(int e, const double* in);
+
 private:
   void resize_nodes(int nn);
   // Velocity factor of a prescribed node at time t (its ramp), and its rate.

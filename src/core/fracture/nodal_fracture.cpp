@@ -8,33 +8,23 @@ namespace fracdem
 
 int build_failure_map(const Body& body, FailureMap& map)
 {
-  const Mesh& mesh = body.mesh();
-  const int nn = mesh.num_nodes();
   map.damaged = body.element_failures(map.element_measure, map.element_normal);
-  map.measure.assign(map.damaged > 0 ? nn : 0, 0.0);
-  map.direction.assign(map.damaged > 0 ? 3 * nn : 0, 0.0);
+  map.failed.clear();
   if (map.damaged == 0) return 0; // an intact body: nothing else to look at
-  for (int e = 0; e < mesh.num_elems(); ++e) {
-    const double m = map.element_measure[e];
-    if (m <= 0) continue;
-    // Strictly larger wins: the lowest element index among equals, on every rank alike.
-    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a) {
-      const int v = mesh.conn[e][a];
-      if (m > map.measure[v]) {
-        map.measure[v] = m;
-        std::copy(&map.element_normal[3 * e], &map.element_normal[3 * e] + 3,
-                  &map.direction[3 * v]);
-      }
-    }
-  }
+  const int ne = static_cast<int>(map.element_measure.size());
+  for (int e = 0; e < ne; ++e)
+    if (map.element_measure[e] >= 1.0) map.failed.push_back(e);
   return map.damaged;
 }
 
-std::vector<int> crack_points(const FailureMap& map)
+std::vector<int> crack_points(const Mesh& mesh, const FailureMap& map)
 {
   std::vector<int> points;
-  for (int v = 0; v < static_cast<int>(map.measure.size()); ++v)
-    if (map.measure[v] >= 1.0) points.push_back(v);
+  for (int e : map.failed)
+    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+      points.push_back(mesh.conn[e][a]);
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
   return points;
 }
 

@@ -9,20 +9,22 @@
 namespace fracdem
 {
 
-// Stage (i): per node, the largest failure measure among the active elements around it (0
-// intact .. 1 carries no more tension) and the crack normal of that element (the failure
-// direction: the maximum failure strain direction of the rotating crack).
+// Stage (i): the failure map. Per element, the failure measure of its most failed integration
+// point (0 intact .. 1 carries no more tension) and that point's crack normal (the failure
+// direction: the maximum failure strain direction of the rotating crack). A node's measure is the
+// largest of its active elements'; only nodes at measure 1 become crack points, and those are the
+// nodes of the completely failed elements, so the node values are taken there alone (stage ii),
+// not over every damaged element at every check.
 struct FailureMap {
-  std::vector<double> measure;   // per node
-  std::vector<double> direction; // 3 per node, unit (zeros where nothing failed)
   std::vector<double> element_measure, element_normal; // per element (normal: 3 per element)
+  std::vector<int> failed;                             // elements at measure 1, ascending
   int damaged = 0;                                     // elements with any damage
 };
-// Returns the number of damaged elements; the node arrays are filled only when there are any.
+// Returns the number of damaged elements.
 int build_failure_map(const Body& body, FailureMap& map);
 
-// Stage (ii): nodes whose measure reached 1 (crack points), ascending.
-std::vector<int> crack_points(const FailureMap& map);
+// Stage (ii): nodes whose measure reached 1 (the nodes of the failed elements), ascending.
+std::vector<int> crack_points(const Mesh& mesh, const FailureMap& map);
 
 // One applied split, for the log.
 struct SplitEvent {

@@ -1,0 +1,85 @@
+"""Restart files of `parallel distributed` bodies, read at another rank count (issue #13 item 5).
+
+Scene (inputs/in.distributed_restart): the clamped steel block of test_distributed_body (768
+tet4, corotational) made to yield (J2, yield 20 MPa, so that every element carries plastic
+history and bulk-viscosity accounts), 600 steps, `write_restart`, 400 more. Each rank of a
+distributed body contributes the nodes it owns and its elements by global index; rank 0 writes
+one record of the whole body, which a distributed body at any rank count (each rank takes its
+part) and a replicated body read alike. Asserted, against the uninterrupted np 1 replicated run:
+
+* np 3 distributed restart continued at np 2 distributed, at np 1 (replicated), at np 4
+  distributed; and the np 1 replicated restart continued at np 3 distributed: every thermo
+  column of the continued run (body energy, kinetic, strain, dissipated, stable step, momentum,
+  the clamp's reaction) within 1e-9 of the column's scale, the tolerance test_distributed_body
+  holds distributed runs to (other summation orders at shared nodes);
+* the continued runs start from the stored state: their first row (step 600) equals the
+  uninterrupted run's row at step 600 within the same tolerance, and the kinetic energy there is
+  not that of the initial velocities.
+"""
+import os
+import sys
+import tempfile
+
+import harness as h
+
+args = h.parse_args()
+BASE = dict(dt=1e-7, thermo=100, first=600, rest=400)
+TOL = 1e-9
+
+
+def written(np_, parallel):
+    wd = tempfile.mkdtemp(prefix=f"dist_restart_{parallel}_{np_}_")
+    h.copy_inputs(["in.distributed_restart", "in.distributed_continue", "in.fe_common"], wd)
+    h.make_box_mesh(os.path.join(wd, "block.msh"), (8, 4, 4), (0.4, 0.2, 0.2))
+    text = h.run(args.exe, "in.distributed_restart", np_=np_, workdir=wd,
+                 variables=dict(BASE, parallel=parallel))
+    return wd, h.thermo_blocks(text)
+
+
+def continued(wd, np_, parallel):
+    text = h.run(args.exe, "in.distributed_continue", np_=np_, workdir=wd,
+                 variables=dict(BASE, parallel=parallel))
+    return h.thermo_blocks(text)[-1]
+
+
+def worst_scaled(ref, got):
+    """Largest difference of two thermo blocks' columns, each scaled by its largest value."""
+    (head, a), (head_b, b) = ref, got
+    if head != head_b or len(a) != len(b):
+        return float("inf"), f"shape {len(a)} vs {len(b)} rows"
+    worst, where = 0.0, ""
+    for j, name in enumerate(head):
+        scale = max(max(abs(r[j]) for r in a), 1e-300)
+        for ra, rb in zip(a, b):
+            d = abs(ra[j] - rb[j]) / scale
+            if d > worst:
+                worst, where = d, name
+    return worst, where
+
+
+def main():
+    wd1, runs1 = written(1, "replicated")
+    reference = runs1[-1]  # steps 600..1000 of the uninterrupted run
+    dissipated = reference[1][0][10]  # f_body[16]: plastic + viscous work at the restart step
+    h.check(dissipated > 0, f"the block yields before the restart (dissipated {dissipated:.4g} J): "
+                            "the record carries plastic and viscous history")
+    wd3, runs3 = written(3, "distributed")
+    w, where = worst_scaled(reference, runs3[-1])
+    h.check(w < TOL, f"np 3 distributed (uninterrupted) = np 1 replicated within {w:.1e} ({where})")
+    ke0 = runs1[0][1][0][2]  # column 2: f_body[1], the kinetic energy
+    for label, wd, np_, parallel in (("np 3 distributed -> np 2 distributed", wd3, 2, "distributed"),
+                                     ("np 3 distributed -> np 1", wd3, 1, "replicated"),
+                                     ("np 3 distributed -> np 4 distributed", wd3, 4, "distributed"),
+                                     ("np 1 replicated -> np 3 distributed", wd1, 3, "distributed")):
+        got = continued(wd, np_, parallel)
+        w, where = worst_scaled(reference, got)
+        h.check(w < TOL, f"{label}: continued thermo equals the uninterrupted run "
+                         f"({len(got[1])} rows, worst {w:.1e} of scale in {where})")
+        ke = got[1][0][2]
+        h.check(abs(ke - ke0) > 1e-3 * abs(ke0),
+                f"{label}: starts from the stored state (kinetic {ke:.6g} J, initial {ke0:.6g} J)")
+    print("OK")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

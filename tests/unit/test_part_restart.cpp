@@ -1,0 +1,133 @@
+// Unit tests of the restart records of distributed bodies (body/part_restart.h): parts written
+// by global index merge into one record that a whole body and other partitions read back.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "body/body_partition.h"
+#include "body/part_restart.h"
+#include "fem/body.h"
+#include "io/mesh_generators.h"
+#include "test_support.h"
+
+using namespace fracdem;
+
+namespace
+{
+
+Mesh block()
+{
+  return make_box_tet_mesh(4, 3, 2, 0.4, 0.3, 0.2);
+}
+
+// A whole body in motion (random velocities, one step taken, work accounts non-zero).
+Body moving_body()
+{
+  Body b;
+  b.build(block(), fracdem_test::steel(), false);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n = 0; n < b.num_nodes(); ++n) {
+    const double v[3] = {u(rng), u(rng), u(rng)};
+    b.set_velocity({n}, v);
+  }
+  b.advance_time(1e-7);
+  b.half_kick_drift(1e-7);
+  b.begin_forces();
+  const double g[3] = {0, 0, -9.81};
+  int inverted = -1;
+  b.finish_forces(b.add_internal_forces(&inverted), g, 1e-7, true);
+  b.half_kick(1e-7);
+  return b;
+}
+
+// The parts of `mesh` in `nparts` pieces, each with its body taken from `whole`.
+struct Parts {
+  std::vector<MeshPart> parts;
+  std::vector<Body> bodies;
+};
+Parts split_into(const Body& whole, int nparts)
+{
+  Parts p;
+  const Mesh mesh = block();
+  const std::vector<int> owner = partition_elements(mesh, nparts);
+  p.parts.reserve(nparts);
+  p.bodies.resize(nparts);
+  for (int k = 0; k < nparts; ++k) {
+    p.parts.push_back(extract_part(mesh, owner, k));
+    Body& b = p.bodies[k];
+    b.build(p.parts[k].mesh, fracdem_test::steel(), false);
+    std::vector<std::uint8_t> owned(p.parts[k].num_nodes());
+    for (int n = 0; n < p.parts[k].num_nodes(); ++n)
+      owned[n] = p.parts[k].owns(n);
+    b.set_counted_nodes(owned);
+    copy_whole_into_part(whole, b, p.parts[k], k == 0);
+  }
+  return p;
+}
+
+std::vector<double> gathered(const Parts& p)
+{
+  std::vector<double> all;
+  for (size_t k = 0; k < p.parts.size(); ++k) {
+    const std::vector<double> mine = pack_part_state(p.bodies[k], &p.parts[k]);
+    all.insert(all.end(), mine.begin(), mine.end());
+  }
+  return all;
+}
+
+} // namespace
+
+// Three parts of a moving body, merged, read by a whole body and by four other parts: every
+// node's position and velocity as the original's, and the accounts summed once.
+TEST(PartRestart, PartsMergeIntoTheWholeBodyAndSplitAgainAtAnotherCount)
+{
+  const Body whole = moving_body();
+  const Parts three = split_into(whole, 3);
+  const std::vector<double> record =
+      merge_part_states(gathered(three), whole.num_nodes(), whole.mesh().num_elems());
+  EXPECT_EQ(record[0], kPartsRecordVersion);
+
+  Body again;
+  again.build(block(), fracdem_test::steel(), false);
+  unpack_parts_record(record.data(), again, nullptr, true);
+  EXPECT_EQ(again.positions(), whole.positions());
+  EXPECT_EQ(again.velocities(), whole.velocities());
+  EXPECT_EQ(again.time(), whole.time());
+  EXPECT_DOUBLE_EQ(again.external_work(), whole.external_work());
+
+  const Parts four = split_into(whole, 4);
+  double external = 0;
+  for (size_t k = 0; k < four.parts.size(); ++k) {
+    Body b;
+    b.build(four.parts[k].mesh, fracdem_test::steel(), false);
+    unpack_parts_record(record.data(), b, &four.parts[k], k == 0);
+    for (int n = 0; n < b.num_nodes(); ++n)
+      for (int d = 0; d < 3; ++d) {
+        const int g = four.parts[k].global_node[n];
+        EXPECT_EQ(b.positions()[3 * n + d], whole.positions()[3 * g + d]);
+        EXPECT_EQ(b.velocities()[3 * n + d], whole.velocities()[3 * g + d]);
+      }
+    EXPECT_EQ(b.time(), whole.time());
+    external += b.external_work();
+  }
+  EXPECT_DOUBLE_EQ(external, whole.external_work()); // taken by one part only
+}
+
+// A record without one part's contribution is refused (a node nobody owned), as is one read by
+// a body of another mesh.
+TEST(PartRestart, MissingPartsAndOtherMeshesAreRefused)
+{
+  const Body whole = moving_body();
+  const Parts two = split_into(whole, 2);
+  const std::vector<double> first = pack_part_state(two.bodies[0], &two.parts[0]);
+  EXPECT_THROW(merge_part_states(first, whole.num_nodes(), whole.mesh().num_elems()),
+               std::runtime_error);
+  const std::vector<double> record =
+      merge_part_states(gathered(two), whole.num_nodes(), whole.mesh().num_elems());
+  Body other;
+  other.build(make_box_tet_mesh(2, 2, 2, 0.4, 0.3, 0.2), fracdem_test::steel(), false);
+  EXPECT_THROW(unpack_parts_record(record.data(), other, nullptr, true), std::runtime_error);
+}
