@@ -493,7 +493,8 @@ def l_panel(size, cut, h, load_offset):
 
 def main(argv=None):
     """CLI: python -m fracdem.meshgen box NX NY NZ LX LY LZ [OX OY OZ] -o out.msh | rect ... |
-    disc R H OUT.msh | notched_beam L D A H OUT.msh | notched_block LX LY LZ A H OUT.msh"""
+    disc R H OUT.msh | notched_beam L D A H OUT.msh | notched_block LX LY LZ A H OUT.msh |
+    l_panel SIZE CUT H LOAD_OFFSET OUT.msh"""
     import argparse
 
     p = argparse.ArgumentParser(prog="python -m fracdem.meshgen", description=main.__doc__)
@@ -528,7 +529,11 @@ def main(argv=None):
         s.add_argument("--span", type=float, default=None, help="support span (default 0.9 length)")
         s.add_argument("--notch-width", type=float, default=None,
                        help="slot width; 0 = a cut with duplicated face nodes (defaults: beam 2 H, block 0)")
-    for s in (d, nb, nk):
+    lp = sub.add_parser("l_panel", help="tri3 L-shaped panel SIZE^2 without the lower-right CUT^2, "
+                        "spacing H; groups bottom, load (LOAD_OFFSET from the arm's free end)")
+    for name in ("SIZE", "CUT", "H", "LOAD_OFFSET"):
+        lp.add_argument(name, type=float)
+    for s in (d, nb, nk, lp):
         s.add_argument("output", metavar="OUT.msh")
     a = p.parse_args(argv)
     if a.kind == "box":
@@ -539,6 +544,8 @@ def main(argv=None):
         X, E, G = disc(a.R, a.H, flat_angle_deg=a.flat)
     elif a.kind == "notched_beam":
         X, E, G = notched_beam(a.L, a.D, a.A, a.H, element=a.element, notch_width=a.notch_width, span=a.span)
+    elif a.kind == "l_panel":
+        X, E, G = l_panel(a.SIZE, a.CUT, a.H, a.LOAD_OFFSET)
     else:
         X, E, G = notched_block_tet(a.LX, a.LY, a.LZ, a.A, a.H, span=a.span,
                                     notch_width=0.0 if a.notch_width is None else a.notch_width)
