@@ -32,11 +32,13 @@ Every parameter and its source:
   work at every output row; dissipated energy within a factor of 1.5 of G_f A_lig either way
   (a crack band dissipates G_f per unit area only where it localises into one element row: the
   damage that spreads beside it before the split adds to it, and the band elements removed by
-  erosion take away what they had not yet dissipated); quasi-static peak (KE/SE < 5e-2).
+  erosion take away what they had not yet dissipated); quasi-static peak (KE/SE < 5e-2); the
+  same run at np 2 makes the same splits in the same order and ends with as many fragments.
   Reported, not asserted: the peak load against f_t times the ligament area.
 
-Run: python3 tests/integration/test_fracture_3d.py --exe build/fracdem (~20 s).
+Run: python3 tests/integration/test_fracture_3d.py --exe build/fracdem (~20 s; the np 1 and np 2 runs).
 """
+import argparse
 import math
 import os
 import re
@@ -51,7 +53,11 @@ import harness as h
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
 from fracdem import meshgen  # noqa: E402
 
-args = h.parse_args()
+parser = argparse.ArgumentParser()
+parser.add_argument("--exe", default=os.path.join(h.ROOT, "build", "fracdem"))
+parser.add_argument("--vtk", type=int, default=10 ** 9,
+                    help="write block.pvd for ParaView every N steps in the run's directory")
+args = parser.parse_args()
 args.exe = os.path.abspath(args.exe)  # the runs work in a temporary directory
 
 # Petersson (1981); density EN 1991-1-1; section and notch RILEM TC 50-FMC.
@@ -91,21 +97,21 @@ def block_mesh(path):
     return X, T
 
 
-def run_block(wd):
+def run_block(wd, np_=1):
     h.copy_inputs(["in.notched_block_3d", "in.fe_common"], wd)
     X, T = block_mesh(os.path.join(wd, "block.msh"))
     var = dict(mesh="block.msh", rho=RHO, E=E, nu=NU, ft=FT, gf=GF, v=V, ramp=RAMP, fevery=10,
-               thermo=10 ** 9)
+               thermo=10 ** 9, vtk=args.vtk)
     dt0 = h.stable_dt(h.run(args.exe, "in.notched_block_3d", workdir=wd,
                             variables=dict(var, dt=1e-12, steps=0, every=1)))
     dt = DT_FRACTION * dt0
     steps = int(math.ceil((STRETCH / V + RAMP / 2) / dt))
     every = max(1, steps // 500)
     t0 = time.time()
-    h.run(args.exe, "in.notched_block_3d", workdir=wd,
+    h.run(args.exe, "in.notched_block_3d", np_=np_, workdir=wd,
           variables=dict(var, dt=dt, steps=steps, every=every))
     with open(os.path.join(wd, "log.liggghts")) as f:
-        splits = [(int(m.group(2)), int(m.group(3))) for m in SPLIT_RE.finditer(f.read())]
+        splits = [(int(m.group(1)), int(m.group(2)), int(m.group(3))) for m in SPLIT_RE.finditer(f.read())]
     return dict(X=X, ntet=len(T), dt0=dt0, dt=dt, steps=steps, wall=time.time() - t0,
                 splits=splits, energy=h.read_csv(os.path.join(wd, "energy.csv")))
 
@@ -113,7 +119,7 @@ def run_block(wd):
 def split_positions(splits, X):
     """Mesh position of each split node; a split copy sits where its parent was split."""
     parent, pos = {}, []
-    for old, new in splits:
+    for _, old, new in splits:
         parent[new] = old
         node = old
         while node >= len(X):
@@ -124,6 +130,8 @@ def split_positions(splits, X):
 
 wd = tempfile.mkdtemp(prefix="fracture_3d_")
 r = run_block(wd)
+print(f"run directory {wd}")
+r2 = run_block(tempfile.mkdtemp(prefix="fracture_3d_np2_"), np_=2)
 e = r["energy"]
 P = np.array(e["reaction_xmax_x"])
 k = int(np.argmax(P))
@@ -164,4 +172,7 @@ h.check(balance < 1e-2, f"energy balance closes within 1 % of the work (worst {b
 ratio = D[-1] / (GF * A_LIG)
 h.check(1 / 1.5 <= ratio <= 1.5,
         f"dissipated energy {D[-1]:.4f} J = {ratio:.3f} G_f A_lig, within a factor of 1.5")
+h.check(r2["splits"] == r["splits"] and int(r2["energy"]["fragments"][-1]) == frags[-1],
+        f"np 2 makes the same {len(r['splits'])} splits (step, node, new node) and ends with "
+        f"{int(r2['energy']['fragments'][-1])} fragments like np 1")
 print("OK")

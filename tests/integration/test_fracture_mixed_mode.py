@@ -38,6 +38,7 @@ Every parameter and its source:
 
 Run: python3 tests/integration/test_fracture_mixed_mode.py --exe build/fracdem (~45 s).
 """
+import argparse
 import math
 import os
 import re
@@ -52,7 +53,11 @@ import harness as h
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
 from fracdem import meshgen  # noqa: E402
 
-args = h.parse_args()
+parser = argparse.ArgumentParser()
+parser.add_argument("--exe", default=os.path.join(h.ROOT, "build", "fracdem"))
+parser.add_argument("--vtk", type=int, default=10 ** 9,
+                    help="write panel.pvd for ParaView every N steps in the run's directory")
+args = parser.parse_args()
 args.exe = os.path.abspath(args.exe)  # the runs work in a temporary directory
 
 # Winkler et al. (2001); density EN 1991-1-1.
@@ -73,7 +78,7 @@ def run_panel(wd):
     X, E_, G = meshgen.l_panel(SIZE, CUT, H, LOAD_OFFSET)
     meshgen.write_gmsh22(os.path.join(wd, "panel.msh"), X, E_, G)
     var = dict(mesh="panel.msh", rho=RHO, E=E, nu=NU, ft=FT, gf=GF, t=THICK, v=V, ramp=RAMP,
-               fevery=10, thermo=10 ** 9)
+               fevery=10, thermo=10 ** 9, vtk=args.vtk)
     dt0 = h.stable_dt(h.run(args.exe, "in.l_panel", workdir=wd,
                             variables=dict(var, dt=1e-12, steps=0, every=1)))
     dt = DT_FRACTION * dt0
@@ -117,6 +122,7 @@ def height_at(pos, x):
 
 wd = tempfile.mkdtemp(prefix="fracture_mixed_")
 r = run_panel(wd)
+print(f"run directory {wd}")
 e = r["energy"]
 P = np.array(e["reaction_load_y"])
 u = np.array(e["displacement_load_y"])
