@@ -16,8 +16,8 @@ Every parameter and its source:
   shared and held by the prescribed velocity, and the compressed zone under them never fails in
   tension (docs/validation.md, "Fracture: mixed mode and 3D"). Here both end faces are held in
   all components (clamped grips: the ends neither rotate nor slide), the face x = +100 mm moves
-  at v = 50 mm/s ramped over 0.2 ms (about one period of the block's first axial mode, 4 L / c =
-  0.23 ms); the peak comes at ~0.54 ms with KE/SE ~ 0.02; run to an end displacement of 0.1 mm
+  at v = 50 mm/s ramped over 0.2 ms (about two periods of the held block's first axial mode,
+  2 L / c = 0.11 ms); the peak comes at ~0.54 ms with KE/SE ~ 0.02; run to an end displacement of 0.1 mm
   (about 4.5 times the one at the peak; the halves separate at ~0.06 mm).
 * Mesh: Kuhn-split hexes (meshgen.notched_block_tet), h = 12.5 mm in y (8 cells, 4 across the
   ligament) and along x within 25 mm of the notch, growing by 1.3 to 25 mm towards the ends;
@@ -30,9 +30,9 @@ Every parameter and its source:
   follows element faces on either side of a one-element band; the first split on the notch tip
   line; energy balance kinetic + strain + dissipated + eroded = boundary work within 1 % of the
   work at every output row; dissipated energy within a factor of 1.5 of G_f A_lig either way
-  (a crack band dissipates G_f per unit area only where it localises into one element row: the
-  damage that spreads beside it before the split adds to it, and the band elements removed by
-  erosion take away what they had not yet dissipated); quasi-static peak (KE/SE < 5e-2); the
+  (a crack band dissipates G_f per unit area only where it localises into one element layer:
+  damage that spreads beside it adds to it, band elements that a split unloads before they are
+  traction-free stop short of it); quasi-static peak (KE/SE < 5e-2); the
   same run at np 2 makes the same splits in the same order and ends with as many fragments.
   Reported, not asserted: the peak load against f_t times the ligament area.
 
