@@ -420,14 +420,17 @@ def notched_beam(length, depth, notch_depth, h, element="tri3", notch_width=None
     return X, E, groups
 
 
-def notched_block_tet(lx, ly, lz, notch_depth, h, notch_width=0.0, span=None):
+def notched_block_tet(lx, ly, lz, notch_depth, h, notch_width=0.0, span=None, xs=None, nz=None):
     """3D notched block [-lx/2, lx/2] x [0, ly] x [0, lz] of tet4 (Kuhn-split hexes as in
     box_tet_mesh, grid ~h with planes x = 0, +-span/2, y = notch_depth).
 
     Notch through the whole z thickness at x = 0 from y = 0 to notch_depth: by default
     (notch_width = 0) a cut, the hexes on either side of x = 0 having their own copies of the
     nodes at x = 0, y < notch_depth, so the halves meet only at y >= notch_depth; notch_width
-    > 0 removes the hexes inside |x| < notch_width/2 instead. span defaults to 0.9 lx. Returns
+    > 0 removes the hexes inside |x| < notch_width/2 instead. span defaults to 0.9 lx. xs: the
+    grid's x coordinates instead of the uniform ones (e.g. graded away from the notch; they
+    must include 0, +-notch_width/2, +-span/2 and +-lx/2); nz: cells through the thickness
+    (default lz / h). Returns
     (nodes, tets, groups) with groups (triangles, degenerate along lines) "support_left"/
     "support_right" = the nodes on y = 0, x = -+span/2 (all z), "load" = the nodes on y = ly,
     x = 0 (all z), and "ligament" = the quads of the plane x = 0 above the notch tip.
@@ -435,9 +438,10 @@ def notched_block_tet(lx, ly, lz, notch_depth, h, notch_width=0.0, span=None):
     span = 0.9 * lx if span is None else span
     if not (0 <= notch_width / 2 < span / 2 < lx / 2 + 1e-12) or not 0 <= notch_depth < ly:
         raise ValueError("need 0 <= notch_width < span <= lx and 0 <= notch_depth < ly")
-    xs = _sym_axis([notch_width / 2, span / 2, lx / 2], h)
+    if xs is None:
+        xs = _sym_axis([notch_width / 2, span / 2, lx / 2], h)
     ys = _axis([notch_depth, ly], h)
-    zs = np.linspace(0.0, lz, max(1, int(round(lz / h))) + 1)
+    zs = np.linspace(0.0, lz, (nz or max(1, int(round(lz / h)))) + 1)
     X, T = _kuhn_tets(xs, ys, zs)
     tol = 1e-9 * max(lx, ly, lz)
     X, T = _cut_notch(X, T, notch_depth, notch_width, tol)
@@ -455,9 +459,42 @@ def notched_block_tet(lx, ly, lz, notch_depth, h, notch_width=0.0, span=None):
     return X, T, groups
 
 
+def l_panel(size, cut, h, load_offset):
+    """L-shaped panel [0, size]^2 without the lower-right square [size - cut, size] x [0, cut]
+    (Winkler's mixed-mode specimen): tri3 on a grid of spacing ~h with grid lines on x, y = cut
+    and x = size - load_offset; the diagonals alternate by cell parity (criss-cross), so that
+    no diagonal direction is preferred. Re-entrant corner at (size - cut, cut). Returns (nodes,
+    tri3, groups) with "bottom" = the edge y = 0 (x <= size - cut) and "load" = the node
+    (size - load_offset, cut) on the lower face of the horizontal arm.
+    """
+    if not 0 < cut < size or not 0 < load_offset < cut:
+        raise ValueError("need 0 < cut < size and 0 < load_offset < cut")
+    corner = size - cut
+    xs = _axis([corner, size - load_offset, size], h)
+    ys = _axis([cut, size], h)
+    nx = len(xs) - 1
+    X = np.array([[x, y, 0.0] for y in ys for x in xs])
+    elems = []
+    for j, i in itertools.product(range(len(ys) - 1), range(nx)):
+        if xs[i] >= corner - 1e-12 * size and ys[j + 1] <= cut + 1e-12 * size:
+            continue  # inside the cut-out
+        a, d = i + (nx + 1) * j, i + (nx + 1) * (j + 1)
+        b, c = a + 1, d + 1
+        elems += [[a, b, c], [a, c, d]] if (i + j) % 2 == 0 else [[a, b, d], [b, c, d]]
+    X, E = compact(X, np.array(elems))
+    tol = 1e-9 * size
+    bottom = np.flatnonzero(np.abs(X[:, 1]) < tol)
+    groups = {
+        "bottom": _chain(bottom[np.argsort(X[bottom, 0])]),
+        "load": _chain(_find(X, size - load_offset, cut, tol)),
+    }
+    return X, E, groups
+
+
 def main(argv=None):
     """CLI: python -m fracdem.meshgen box NX NY NZ LX LY LZ [OX OY OZ] -o out.msh | rect ... |
-    disc R H OUT.msh | notched_beam L D A H OUT.msh | notched_block LX LY LZ A H OUT.msh"""
+    disc R H OUT.msh | notched_beam L D A H OUT.msh | notched_block LX LY LZ A H OUT.msh |
+    l_panel SIZE CUT H LOAD_OFFSET OUT.msh"""
     import argparse
 
     p = argparse.ArgumentParser(prog="python -m fracdem.meshgen", description=main.__doc__)
@@ -492,7 +529,11 @@ def main(argv=None):
         s.add_argument("--span", type=float, default=None, help="support span (default 0.9 length)")
         s.add_argument("--notch-width", type=float, default=None,
                        help="slot width; 0 = a cut with duplicated face nodes (defaults: beam 2 H, block 0)")
-    for s in (d, nb, nk):
+    lp = sub.add_parser("l_panel", help="tri3 L-shaped panel SIZE^2 without the lower-right CUT^2, "
+                        "spacing H; groups bottom, load (LOAD_OFFSET from the arm's free end)")
+    for name in ("SIZE", "CUT", "H", "LOAD_OFFSET"):
+        lp.add_argument(name, type=float)
+    for s in (d, nb, nk, lp):
         s.add_argument("output", metavar="OUT.msh")
     a = p.parse_args(argv)
     if a.kind == "box":
@@ -503,6 +544,8 @@ def main(argv=None):
         X, E, G = disc(a.R, a.H, flat_angle_deg=a.flat)
     elif a.kind == "notched_beam":
         X, E, G = notched_beam(a.L, a.D, a.A, a.H, element=a.element, notch_width=a.notch_width, span=a.span)
+    elif a.kind == "l_panel":
+        X, E, G = l_panel(a.SIZE, a.CUT, a.H, a.LOAD_OFFSET)
     else:
         X, E, G = notched_block_tet(a.LX, a.LY, a.LZ, a.A, a.H, span=a.span,
                                     notch_width=0.0 if a.notch_width is None else a.notch_width)
