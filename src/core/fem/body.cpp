@@ -254,7 +254,7 @@ double Body::add_internal_forces(int* first_inverted)
   if (rigid_) return 0.0;
   const double energy = space_.add_internal_forces(
       mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr, first_inverted, state_.data(),
-      &damaged_points_, last_dt_, &damaged_elems_);
+      &damaged_points_, last_dt_, &damaged_elems_, &failed_elems_);
   if (viscosity_.on)
     space_.add_viscous_forces(mesh_, x_.data(), v_.data(), elem_begin_, elem_end_, viscosity_,
                               state_.data(), f_.data(), viscous_force_.data(),

@@ -168,6 +168,13 @@ public:
   // The same for every element at once (normal: 3 per element, set only where measure > 0);
   // undamaged elements cost one comparison per point. Returns the number of damaged elements.
   int element_failures(std::vector<double>& measure, std::vector<double>& normal) const;
+  // The elements at failure measure 1 (a point carries no more tension), ascending, as the last
+  // force evaluation found them when it covered the whole body (else null: use
+  // element_failures). An element eroded since then may be listed.
+  const std::vector<int>* failed_elements() const
+  {
+    return elem_begin_ <= 0 && elem_end_ >= mesh_.num_elems() ? &failed_elems_ : nullptr;
+  }
   // Energy dissipated by the material (cracking) in the whole body so far.
   double dissipated_energy() const;
   // Integration points with any damage at the last force evaluation (of this rank's elements).
@@ -260,6 +267,7 @@ private:
   NodeStars stars_; // active elements around each node
   int damaged_points_ = 0;
   std::vector<int> damaged_elems_; // elements with a damaged point at the last force evaluation
+  std::vector<int> failed_elems_;  // and those with a point that carries no more tension
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
   double last_dt_ = 0; // step of the last half_kick_drift (material strain rates)

@@ -229,6 +229,7 @@ struct RankineLaw {
   double* elem_state = nullptr;
   int elem = -1;
   std::vector<int>* damaged_elems = nullptr; // elements with a damaged point, if wanted
+  std::vector<int>* failed_elems = nullptr;  // elements with a point that carries no tension
   void bind(int e, const std::array<int, 4>& c)
   {
     elem = e;
@@ -247,6 +248,9 @@ struct RankineLaw {
       ++damaged;
       if (damaged_elems && (damaged_elems->empty() || damaged_elems->back() != elem))
         damaged_elems->push_back(elem);
+      if (failed_elems && (failed_elems->empty() || failed_elems->back() != elem) &&
+          rankine_cracked(params, st))
+        failed_elems->push_back(elem);
     }
     return w2;
   }
@@ -1090,9 +1094,11 @@ auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_o
 double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
                                     double* f, double* elem_energy, int* first_inverted,
                                     double* state, int* damaged_points, double dt,
-                                    std::vector<int>* damaged_elems) const
+                                    std::vector<int>* damaged_elems,
+                                    std::vector<int>* failed_elems) const
 {
   if (damaged_elems) damaged_elems->clear();
+  if (failed_elems) failed_elems->clear();
   e_begin = std::max(e_begin, 0);
   e_end = std::min(e_end, mesh.num_elems());
   if (state_offset_.back() > 0 && !state)
@@ -1100,8 +1106,10 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   return with_law(mat_, dim_, mesh, state_offset_.data(), state, dt, [&](auto& law) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>)
+    if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>) {
       law.damaged_elems = damaged_elems;
+      law.failed_elems = failed_elems;
+    }
     const double energy =
         corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
                                   f, elem_energy, first_inverted)

@@ -65,7 +65,8 @@ public:
   double add_internal_forces(const Mesh& mesh, const double* x, int e_begin, int e_end, double* f,
                              double* elem_energy, int* first_inverted, double* state = nullptr,
                              int* damaged_points = nullptr, double dt = 0.0,
-                             std::vector<int>* damaged_elems = nullptr) const;
+                             std::vector<int>* damaged_elems = nullptr,
+                             std::vector<int>* failed_elems = nullptr) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
   // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R

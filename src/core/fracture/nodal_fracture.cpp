@@ -8,12 +8,18 @@ namespace fracdem
 
 int build_failure_map(const Body& body, FailureMap& map)
 {
-  map.damaged = body.element_failures(map.element_measure, map.element_normal);
   map.failed.clear();
-  if (map.damaged == 0) return 0; // an intact body: nothing else to look at
-  const int ne = static_cast<int>(map.element_measure.size());
+  map.damaged = body.damaged_points();
+  if (const std::vector<int>* failed = body.failed_elements()) {
+    for (int e : *failed)
+      if (body.mesh().active[e]) map.failed.push_back(e); // one eroded since is left out
+    return map.damaged;
+  }
+  // Element work shared among ranks: the last evaluation saw a range only.
+  map.damaged = body.element_failures(map.measure, map.normal);
+  const int ne = static_cast<int>(map.measure.size());
   for (int e = 0; e < ne; ++e)
-    if (map.element_measure[e] >= 1.0) map.failed.push_back(e);
+    if (map.measure[e] >= 1.0) map.failed.push_back(e);
   return map.damaged;
 }
 

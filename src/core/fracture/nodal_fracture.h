@@ -13,14 +13,15 @@ namespace fracdem
 // point (0 intact .. 1 carries no more tension) and that point's crack normal (the failure
 // direction: the maximum failure strain direction of the rotating crack). A node's measure is the
 // largest of its active elements'; only nodes at measure 1 become crack points, and those are the
-// nodes of the completely failed elements, so the node values are taken there alone (stage ii),
-// not over every damaged element at every check.
+// nodes of the completely failed elements. So the map keeps those elements alone: the force loop
+// lists them as it updates the material (Body::failed_elements), and the crack normal of a crack
+// point is taken from its most failed element when it is split (insert_cracks).
 struct FailureMap {
-  std::vector<double> element_measure, element_normal; // per element (normal: 3 per element)
-  std::vector<int> failed;                             // elements at measure 1, ascending
-  int damaged = 0;                                     // elements with any damage
+  std::vector<int> failed;             // active elements at measure 1, ascending
+  int damaged = 0;                     // > 0 when any point is damaged (0: an intact body)
+  std::vector<double> measure, normal; // scratch of the fallback (element_failures)
 };
-// Returns the number of damaged elements.
+// Returns map.damaged.
 int build_failure_map(const Body& body, FailureMap& map);
 
 // Stage (ii): nodes whose measure reached 1 (the nodes of the failed elements), ascending.
