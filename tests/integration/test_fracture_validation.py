@@ -60,7 +60,7 @@ Every parameter and its source:
   split events (step, node, new node) in the same order and the same fragment count.
 
 Run: python3 tests/integration/test_fracture_validation.py --exe build/fracdem
-(about 2 minutes on 2 cores).
+(1.3-1.6 min of CPU; about 2 minutes of wall time on 2 idle cores).
 """
 import argparse
 import concurrent.futures
