@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "body/body_driver.h"
+#include "body/body_fields.h"
 #include "body/body_setup.h"
 #include "io/gmsh_reader.h"
 #include "io/mesh_generators.h"
@@ -165,6 +166,34 @@ TEST_F(DriverTest, ManySplitsGoToTheLogFileAndTheirCountToTheScreen)
   EXPECT_EQ(log_splits, 11);
   // Either every split of a check was on the screen (at most four) or a summary stood for them.
   EXPECT_TRUE(screen_splits == 11 || summaries > 0) << screen_splits << " " << summaries;
+}
+
+// Erosion takes an element's strain energy into the erosion account, never its dissipated energy:
+// the fracture_energy of a body that erodes its failed elements (here most of them) still counts
+// what they dissipated before, and the per-element field of fix fem/vtk adds up to it.
+TEST_F(DriverTest, ErodedElementsKeepTheirDissipationInTheFractureEnergy)
+{
+  make_bar(" erosion damage 0.99");
+  run(1, 1500, kDt);
+  const Body& body = driver_.body();
+  ASSERT_GT(body.eroded().elements, 0);
+  std::vector<double> per_element;
+  element_dissipation(body, per_element);
+  double all = 0, eroded = 0;
+  for (int e = 0; e < body.mesh().num_elems(); ++e) {
+    all += per_element[e];
+    if (!body.mesh().active[e]) eroded += per_element[e];
+  }
+  EXPECT_NEAR(all, body.dissipated_energy(), 1e-12 * all);
+  EXPECT_GT(eroded, 0.5 * all); // the eroded elements did most of the cracking
+  // Erosion changes nothing in it: eroding every remaining damaged element keeps the total.
+  std::vector<int> rest;
+  for (int e = 0; e < body.mesh().num_elems(); ++e)
+    if (body.mesh().active[e] && per_element[e] > 0) rest.push_back(e);
+  ASSERT_FALSE(rest.empty());
+  const double before = body.dissipated_energy();
+  driver_.body().erode(rest);
+  EXPECT_EQ(body.dissipated_energy(), before);
 }
 
 // A restart record of the cracked bar restores it exactly, topology included, in a fresh driver

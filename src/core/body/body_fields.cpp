@@ -52,8 +52,10 @@ void BodyFields::add_mechanics(const Body& body)
   };
 }
 
-// Per element: damage (0 intact .. 1 no tension left), crack normal, fragment id; per node:
-// 1 where a crack runs through the node (split nodes and their copies).
+// Per element: damage (0 intact .. 1 no tension left), crack normal, fragment id, dissipated
+// energy (J, summed over its points: the fields of all elements add up to fracture_energy, eroded
+// ones included, so a plot shows where that energy went); per node: 1 where a crack runs through
+// the node (split nodes and their copies).
 void BodyFields::add_fracture(const Body& body)
 {
   const Mesh& mesh = body.mesh();
@@ -62,6 +64,7 @@ void BodyFields::add_fracture(const Body& body)
   normal_.assign(3 * ne, 0.0);
   for (int e = 0; e < ne; ++e)
     damage_[e] = body.element_failure(e, &normal_[3 * e]);
+  element_dissipation(body, dissipated_);
   std::vector<int> comp;
   element_components(mesh, comp);
   fragment_.assign(comp.begin(), comp.end());
@@ -71,7 +74,22 @@ void BodyFields::add_fracture(const Body& body)
   fields_.push_back({"damage", 1, damage_.data(), true});
   fields_.push_back({"crack_normal", 3, normal_.data(), true});
   fields_.push_back({"fragment", 1, fragment_.data(), true});
+  fields_.push_back({"dissipated_energy", 1, dissipated_.data(), true});
   fields_.push_back({"split", 1, split_.data(), false});
+}
+
+void element_dissipation(const Body& body, std::vector<double>& energy)
+{
+  const Mesh& mesh = body.mesh();
+  const int per = material_model_info(body.material().model).state_per_point;
+  energy.assign(mesh.num_elems(), 0.0);
+  if (per == 0) return;
+  const double* state = body.material_state().data();
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    for (int q = 0; q < points_per_elem(mesh.etype[e]); ++q)
+      energy[e] +=
+          body.space().point_weight(mesh, e, q) *
+          point_dissipation(body.material(), state + body.space().state_offset(e) + q * per);
 }
 
 // Element means over the integration points (element_plastic_state is false for other materials).
