@@ -53,7 +53,8 @@ void BodyFields::add_mechanics(const Body& body)
 }
 
 // Per element: damage (0 intact .. 1 no tension left), crack normal, fragment id; per node:
-// 1 where a crack runs through the node (split nodes and their copies).
+// 1 where a crack runs through the node (split nodes and their copies); once cracks cut
+// elements, per element the mesh element it is a piece of.
 void BodyFields::add_fracture(const Body& body)
 {
   const Mesh& mesh = body.mesh();
@@ -72,6 +73,16 @@ void BodyFields::add_fracture(const Body& body)
   fields_.push_back({"crack_normal", 3, normal_.data(), true});
   fields_.push_back({"fragment", 1, fragment_.data(), true});
   fields_.push_back({"split", 1, split_.data(), false});
+  if (ne == body.mesh_elements()) return;
+  // Cracks through elements: the mesh element each piece comes from (pieces share it).
+  mesh_element_.resize(ne);
+  for (int e = 0; e < ne; ++e) {
+    int r = e;
+    while (body.element_parent(r) >= 0)
+      r = body.element_parent(r);
+    mesh_element_[e] = r;
+  }
+  fields_.push_back({"mesh_element", 1, mesh_element_.data(), true});
 }
 
 // Element means over the integration points (element_plastic_state is false for other materials).
