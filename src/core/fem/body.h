@@ -230,6 +230,7 @@ private:
   const double* unpack_growth(const double* p, int ne);
   void join_cut_node_sets(int n);
   void cut_node_groups(int n);
+  long cut_index(int n) const;
   void restore_cut_elements();
   // Velocity factor of a prescribed node at time t (its ramp), and its rate.
   double ramp_factor(int n, double t) const

@@ -155,9 +155,8 @@ void Body::cut_conditions(int p, int u, int w, double t)
 // A node made by a cut joins the node sets that hold both ends of its edge (sets stay sorted).
 void Body::join_cut_node_sets(int n)
 {
-  const auto it = std::find(cut_nodes_.begin(), cut_nodes_.end(), n);
-  const size_t k = static_cast<size_t>(it - cut_nodes_.begin());
-  if (it == cut_nodes_.end() || k % 3 != 0) return;
+  const long k = cut_index(n);
+  if (k < 0) return;
   const int u = cut_nodes_[k + 1], w = cut_nodes_[k + 2];
   for (auto& entry : mesh_.node_sets) {
     std::vector<int>& s = entry.second;
@@ -166,14 +165,29 @@ void Body::join_cut_node_sets(int n)
   }
 }
 
+// Where node n's triple starts in cut_nodes_, or -1 when no cut made n (cut nodes are appended,
+// so the triples are in ascending order of their first entry).
+long Body::cut_index(int n) const
+{
+  long lo = 0, hi = static_cast<long>(cut_nodes_.size() / 3);
+  while (lo < hi) {
+    const long mid = (lo + hi) / 2;
+    if (cut_nodes_[3 * mid] < n)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return 3 * lo < static_cast<long>(cut_nodes_.size()) && cut_nodes_[3 * lo] == n ? 3 * lo : -1;
+}
+
 // The reaction groups of a cut node's held components: those of its edge's first end.
 void Body::cut_node_groups(int n)
 {
-  for (size_t k = 0; k < cut_nodes_.size(); k += 3)
-    if (cut_nodes_[k] == n)
-      for (int d = 0; d < 3; ++d)
-        component_group_[3 * n + d] =
-            (held_[n] >> d & 1) ? component_group_[3 * cut_nodes_[k + 1] + d] : -1;
+  const long k = cut_index(n);
+  if (k < 0) return;
+  for (int d = 0; d < 3; ++d)
+    component_group_[3 * n + d] =
+        (held_[n] >> d & 1) ? component_group_[3 * cut_nodes_[k + 1] + d] : -1;
 }
 
 /* ----------------------------------------------------------------------
