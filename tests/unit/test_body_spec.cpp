@@ -174,6 +174,8 @@ TEST(BodySpec, FractureAndBulkViscosity)
   EXPECT_EQ(s.fracture_every, 5);
   EXPECT_TRUE(s.erode_cracked);
   EXPECT_EQ(s.surface_type, 1);
+  EXPECT_EQ(s.min_size, 0.0); // absent: cracks follow element boundaries
+  EXPECT_EQ(parse("fracture nodal min_size 0.2 every 3").min_size, 0.2);
   s = parse("bulk_viscosity 0.1 2");
   EXPECT_EQ(s.viscosity_mode, 1);
   EXPECT_EQ(s.viscosity.q1, 0.1);
@@ -362,9 +364,12 @@ TEST(BodySpec, OutOfRangeAndBadWords)
       {"fracture nodal erode_cracked maybe",
        "keyword 'fracture nodal erode_cracked' expects yes or no"},
       {"fracture nodal min_size 1",
-       "keyword 'fracture nodal min_size': "
-       "cracks through elements",
+       "keyword 'fracture nodal min_size' expects a fraction F with 0 < F < 0.5 ", true},
+      {"fracture nodal min_size 0", "keyword 'fracture nodal min_size' expects a fraction F", true},
+      {"fracture nodal min_size 0.5", "keyword 'fracture nodal min_size' expects a fraction F",
        true},
+      {"fracture nodal min_size abc",
+       "keyword 'fracture nodal min_size' expects a finite number, got 'abc'"},
       {"fracture brittle", "keyword 'fracture' expects 'nodal [every N]'"},
       {"bulk_viscosity -1 1.2", "keyword 'bulk_viscosity': ", true},
       {"eos ideal", "keyword 'eos': unknown model 'ideal'", true},

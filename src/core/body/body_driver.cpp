@@ -139,6 +139,19 @@ void BodyDriver::build(int dimension)
       fracdem::split_element_work(body_, host_.rank, host_.nprocs, spec_->erosion.on());
   rebuild_surfaces();
   check_crack_band();
+  note_uncut_quads();
+}
+
+// fracture nodal min_size cuts tri3 and tet4 elements only: said once when the mesh has quads.
+void BodyDriver::note_uncut_quads() const
+{
+  if (!(spec_->min_size > 0)) return;
+  const Mesh& mesh = body_.mesh();
+  const long quads = std::count(mesh.etype.begin(), mesh.etype.end(), ElemType::Quad4);
+  if (quads > 0)
+    print(format("fix fem/body %s: min_size ignored for quad4 elements: cracks keep to the "
+                 "boundaries of the mesh's %ld quad4 elements (only tri3 and tet4 are cut)\n",
+                 id_.c_str(), quads));
 }
 
 // parallel distributed: this rank's METIS part, its masses summed with the parts that share its
@@ -636,26 +649,75 @@ void BodyDriver::fracture(std::int64_t step, double dt)
   if (build_failure_map(body_, map) == 0) return;
   const std::vector<int> points = crack_points(body_.mesh(), map);
   std::vector<SplitEvent> events;
-  if (!points.empty()) events = insert_cracks(body_, points);
+  std::vector<CutEvent> cuts;
+  if (!points.empty()) events = insert_cracks(body_, points, spec_->min_size, &cuts);
   const int eroded = erode_collapsed(step, dt, map.failed);
-  if (events.empty() && eroded == 0) return;
-  // Replicas must stay identical: a rank that split differently stops the run at once.
-  int counts[2] = {body_.num_nodes(), -body_.num_nodes()};
-  host_.max_int(counts, 2);
-  if (counts[0] != -counts[1])
+  if (events.empty() && cuts.empty() && eroded == 0) return;
+  // Replicas must stay identical: a rank that split or cut differently stops the run at once.
+  const int ne = body_.mesh().num_elems();
+  int counts[4] = {body_.num_nodes(), -body_.num_nodes(), ne, -ne};
+  host_.max_int(counts, 4);
+  if (counts[0] != -counts[1] || counts[2] != -counts[3])
     fail("fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
+  if (!cuts.empty()) share_element_work();
   rebuild_surfaces();
+  log_cuts(step, cuts);
   log_splits(step, events);
   log_fragments(step);
+  check_step_after_cracks(step, dt, !cuts.empty());
+}
+
+// New elements (cracks through elements) join the element work: a body whose work is shared
+// among the ranks gets its ranges again (a whole-body range grows with the mesh by itself).
+void BodyDriver::share_element_work()
+{
+  if (split_element_work_)
+    split_element_work_ =
+        fracdem::split_element_work(body_, host_.rank, host_.nprocs, spec_->erosion.on());
+}
+
+// Every topology change that can shorten the stable step (splits, cuts, erosion of a failed
+// element) comes here: the step is estimated again and one below the host step stops the run
+// (dt_check error) or is warned about.
+void BodyDriver::check_step_after_cracks(std::int64_t step, double dt, bool cut)
+{
   dt_stable_ = body_.stable_time_step();
-  if (dt_stable_ < dt) {
-    const std::string msg =
-        format("fix fem/body %s: at step %" PRId64
-               " the stable FE time step of the cracked body is %g < host time step %g",
-               id_.c_str(), step, dt_stable_, dt);
-    if (spec_->dt_check_error) fail(msg);
-    warn(msg);
+  if (!(dt_stable_ < dt)) return;
+  const std::string msg =
+      format("fix fem/body %s: at step %" PRId64
+             " the stable FE time step of the cracked body is %g < host time step %g%s",
+             id_.c_str(), step, dt_stable_, dt,
+             cut ? " (cracks through elements made smaller elements: raise 'fracture nodal "
+                   "min_size' or reduce 'timestep')"
+                 : "");
+  if (spec_->dt_check_error) fail(msg);
+  warn(msg);
+}
+
+// Each crack through an element, in the log file (on the screen up to four, else their count).
+void BodyDriver::log_cuts(std::int64_t step, const std::vector<CutEvent>& cuts) const
+{
+  const bool each_on_screen = cuts.size() <= 4;
+  for (const CutEvent& c : cuts) {
+    std::string line = format("fix fem/body %s: step %" PRId64
+                              ": crack through element %d at node %d (t = %.3f) -> new node %d, "
+                              "new element %d",
+                              id_.c_str(), step, c.elem, c.node, c.t, c.new_node,
+                              c.new_elems.empty() ? -1 : c.new_elems[0]);
+    if (c.new_elems.size() > 1) {
+      line += format("; edge %d-%d also splits", c.u, c.w);
+      for (size_t k = 1; k < c.new_elems.size(); ++k)
+        line += format(" %d", body_.element_parent(c.new_elems[k]));
+      line += " into new";
+      for (size_t k = 1; k < c.new_elems.size(); ++k)
+        line += format(" %d", c.new_elems[k]);
+    }
+    print(line + "\n", each_on_screen, true);
   }
+  if (!each_on_screen)
+    print(format("fix fem/body %s: step %" PRId64 ": %zu cracks through elements (see log)\n",
+                 id_.c_str(), step, cuts.size()),
+          true, false);
 }
 
 // A failed element (no tension left) that has been squeezed into a sliver would collapse the

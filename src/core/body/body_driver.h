@@ -158,6 +158,10 @@ private:
   void erode_inverted(std::int64_t step, int e);
   int erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed);
   void log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const;
+  void log_cuts(std::int64_t step, const std::vector<CutEvent>& cuts) const;
+  void share_element_work();
+  void check_step_after_cracks(std::int64_t step, double dt, bool cut);
+  void note_uncut_quads() const;
   void log_fragments(std::int64_t step);
   void warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res);
   void rebuild_surfaces();

@@ -55,7 +55,8 @@ void BodyFields::add_mechanics(const Body& body)
 // Per element: damage (0 intact .. 1 no tension left), crack normal, fragment id, dissipated
 // energy (J, summed over its points: the fields of all elements add up to fracture_energy, eroded
 // ones included, so a plot shows where that energy went); per node: 1 where a crack runs through
-// the node (split nodes and their copies).
+// the node (split nodes and their copies); once cracks cut elements, per element the mesh element
+// it is a piece of.
 void BodyFields::add_fracture(const Body& body)
 {
   const Mesh& mesh = body.mesh();
@@ -76,6 +77,16 @@ void BodyFields::add_fracture(const Body& body)
   fields_.push_back({"fragment", 1, fragment_.data(), true});
   fields_.push_back({"dissipated_energy", 1, dissipated_.data(), true});
   fields_.push_back({"split", 1, split_.data(), false});
+  if (ne == body.mesh_elements()) return;
+  // Cracks through elements: the mesh element each piece comes from (pieces share it).
+  mesh_element_.resize(ne);
+  for (int e = 0; e < ne; ++e) {
+    int r = e;
+    while (body.element_parent(r) >= 0)
+      r = body.element_parent(r);
+    mesh_element_[e] = r;
+  }
+  fields_.push_back({"mesh_element", 1, mesh_element_.data(), true});
 }
 
 void element_dissipation(const Body& body, std::vector<double>& energy)

@@ -13,7 +13,8 @@ namespace fracdem
 
 // The fields of one frame of a body, in write order: point data displacement and velocity, cell
 // data stress (Voigt 6), von_mises and strain_energy_density; for materials that fracture also
-// damage, crack_normal, fragment, dissipated_energy (cell) and split (point); for plastic materials
+// damage, crack_normal, fragment, dissipated_energy (cell) and split (point), and once cracks cut
+// elements mesh_element (cell: the mesh element each piece comes from); for plastic materials
 // plastic_strain, temperature_rise and plastic_work (cell). Stress and energy stay 0 for a rigid
 // body and for inactive elements. The VtkField entries point into this object and into
 // body.velocities(), so it is neither copied nor kept past the body's next change.
@@ -32,7 +33,7 @@ private:
   void add_plastic(const Body& body);
 
   std::vector<double> disp_, stress_, mises_, energy_density_;
-  std::vector<double> damage_, normal_, fragment_, split_, dissipated_;
+  std::vector<double> damage_, normal_, fragment_, split_, dissipated_, mesh_element_;
   std::vector<double> eps_bar_, temperature_rise_, plastic_work_;
   std::vector<VtkField> fields_;
 };

@@ -272,13 +272,16 @@ const std::map<std::string, FractureOption> kFractureOptions = {
        s.erode_cracked = r.word(1) == "yes";
      }},
     {"min_size",
-     [](const SpecReader&, BodySpec&) {
-       fail("keyword 'fracture nodal min_size': cracks through elements are not available yet; "
-            "cracks follow element boundaries (leave out min_size)");
+     [](const SpecReader& r, BodySpec& s) {
+       s.min_size = spec_number("fracture nodal min_size", r.word(1));
+       if (!(s.min_size > 0 && s.min_size < 0.5))
+         fail("keyword 'fracture nodal min_size' expects a fraction F with 0 < F < 0.5 (each "
+              "piece of an element that a crack cuts keeps at least F of its area/volume), got " +
+              r.word(1));
      }},
 };
 
-// fracture nodal [every N] [erode_cracked yes|no]
+// fracture nodal [every N] [erode_cracked yes|no] [min_size F]
 void parse_fracture(SpecReader& r, BodySpec& s)
 {
   if (!r.has(1) || r.word(1) != "nodal") fail("keyword 'fracture' expects 'nodal [every N]'");

@@ -26,7 +26,10 @@ void Body::build(Mesh mesh, const Material& material, bool rigid)
   state_.assign(space_.state_size(), 0.0);
   stars_.build(mesh_);
   elem_begin_ = 0;
-  elem_end_ = mesh_.num_elems();
+  elem_end_ = mesh_elems_ = mesh_.num_elems();
+  elem_parent_.clear();
+  cut_nodes_.clear();
+  mesh_measure_.clear();
   set_bulk_viscosity(viscosity_); // sizes its accounts for this mesh
 }
 
@@ -619,6 +622,7 @@ std::size_t Body::memory_bytes() const
   b += vector_bytes(bc_) + vector_bytes(held_) + vector_bytes(bc_group_) + vector_bytes(parent_) +
        vector_bytes(component_group_);
   b += vector_bytes(stars_.offset) + vector_bytes(stars_.elems);
+  b += vector_bytes(elem_parent_) + vector_bytes(cut_nodes_) + vector_bytes(mesh_measure_);
   return b;
 }
 
@@ -634,6 +638,9 @@ std::size_t Body::memory_bytes() const
               when the viscosity is off, then the erosion account (elements, mass, energy,
               momentum x y z), the shield work and the shield hits (8); written only once an
               element eroded or the shield acted, so other bodies keep writing version 2 or 3
+   version 5: the header, the growth block of the cuts (fem/body_cut.cpp), then version 4's
+              layout (viscous block, ne or 0, and accounts always); written only once an
+              element was cut, so other bodies keep writing versions 2 to 4
 ------------------------------------------------------------------------- */
 
 void Body::pack_state(std::vector<double>& buf) const
@@ -641,9 +648,11 @@ void Body::pack_state(std::vector<double>& buf) const
   const int nn = num_nodes(), ne = mesh_.num_elems();
   buf.clear();
   buf.reserve(6 + 17 * nn + 6 * ne + state_.size());
-  const bool accounts = eroded_.elements > 0 || shield_hits_ > 0;
-  const double version = accounts ? 4.0 : viscosity_.on ? 3.0 : 2.0;
+  const bool cut = !cut_nodes_.empty();
+  const bool accounts = cut || eroded_.elements > 0 || shield_hits_ > 0;
+  const double version = cut ? 5.0 : accounts ? 4.0 : viscosity_.on ? 3.0 : 2.0;
   buf.insert(buf.end(), {version, double(nn), double(ne), time_, external_work_, contact_work_});
+  if (cut) pack_growth(buf);
   buf.insert(buf.end(), mesh_.X.begin(), mesh_.X.end());
   buf.insert(buf.end(), x_.begin(), x_.end());
   buf.insert(buf.end(), v_.begin(), v_.end());
@@ -697,7 +706,9 @@ void Body::unpack_state(const double* buf)
   const int version = static_cast<int>(buf[0]);
   const int nn = static_cast<int>(buf[1]), ne = static_cast<int>(buf[2]);
   const int mesh_nodes = std::count(parent_.begin(), parent_.end(), -1);
-  if (version < 1 || version > 4 || ne != mesh_.num_elems() ||
+  const double* p = buf + 6;
+  if (version == 5) p = unpack_growth(p, ne); // throws when ne does not grow from this mesh
+  if (version < 1 || version > 5 || ne != mesh_.num_elems() ||
       (version == 1 && nn != num_nodes()) || (version >= 2 && nn < mesh_nodes))
     throw std::runtime_error("restart file holds a body with " + std::to_string(nn) + " nodes / " +
                              std::to_string(ne) + " elements but the mesh has " +
@@ -706,7 +717,6 @@ void Body::unpack_state(const double* buf)
   time_ = buf[3];
   external_work_ = buf[4];
   contact_work_ = buf[5];
-  const double* p = buf + 6;
   if (version >= 2) {
     mesh_.X.assign(p, p + 3 * nn);
     p += 3 * nn;
@@ -726,25 +736,34 @@ void Body::unpack_state(const double* buf)
     for (int n = 0; n < nn; ++n)
       bc_group_[n] = static_cast<int>(p[2 * nn + n]);
     p += 2 * nn;
-    for (int n = 0; n < nn; ++n) {
+    for (int n = 0; n < nn; ++n)
       parent_[n] = static_cast<int>(p[nn + n]);
+    for (int n = 0; n < nn; ++n)
       if (parent_[n] >= 0) // a split copy: its parent's groups (parents precede their copies)
         for (int d = 0; d < 3; ++d)
           component_group_[3 * n + d] = component_group_[3 * parent_[n] + d];
-    }
+      else
+        cut_node_groups(n); // a cut node: those of its edge's first end (which precedes it)
     std::copy(p + 2 * nn, p + 3 * nn, mass_.begin());
     p += 3 * nn;
     for (int e = 0; e < ne; ++e)
       for (int a = 0; a < 4; ++a)
         mesh_.conn[e][a] = static_cast<int>(p[4 * e + a]);
     p += 4 * ne;
-    // Split nodes join the node sets of their parents (parents precede their copies).
-    for (auto& set : mesh_.node_sets) {
-      std::vector<int>& s = set.second;
-      for (int n = 0; n < nn; ++n)
-        if (parent_[n] >= 0 && std::binary_search(s.begin(), s.end(), parent_[n]))
+    // Split nodes join the node sets of their parents, cut nodes those of both their edge's
+    // ends (both precede the node).
+    for (int n = 0; n < nn; ++n) {
+      if (parent_[n] < 0) {
+        join_cut_node_sets(n);
+        continue;
+      }
+      for (auto& set : mesh_.node_sets) {
+        std::vector<int>& s = set.second;
+        if (std::binary_search(s.begin(), s.end(), parent_[n]))
           s.insert(std::upper_bound(s.begin(), s.end(), n), n);
+      }
     }
+    if (version == 5) restore_cut_elements();
   }
   for (int e = 0; e < ne; ++e)
     mesh_.active[e] = p[e] != 0.0;

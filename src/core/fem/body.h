@@ -128,7 +128,30 @@ public:
   const std::vector<double>& forces() const { return f_; }
   const std::vector<double>& masses() const { return mass_; }
   const std::vector<NodeBc>& conditions() const { return bc_; }
-  const std::vector<int>& parents() const { return parent_; } // -1: an original mesh node
+  const std::vector<int>& parents() const { return parent_; } // -1: not a split copy
+
+  // ---- cracks through elements (fem/body_cut.cpp) ----
+  // Bisects edge uw at P = u + t (w - u) (fem/edge_bisect.h: every element around the edge split
+  // in two; the slot keeps the child with u, measure t). P's reference and current positions are
+  // interpolated; each child copies its parent's material state (its strain is the parent's:
+  // the displacement is linear along the edge), the viscous accounts are shared t : 1 - t. P
+  // takes the lumped mass u and w lose, with their momentum and a share of their forces in the
+  // same proportion, so mass, momentum and force sums are unchanged (to round-off), and P moves
+  // at the interpolated velocity (exactly so where the lumped shares are equal: plane tri3,
+  // tet4). P is held in the components both ends hold (prescribed if both are, at the
+  // interpolated velocity) and joins the node sets that hold both. A whole-body element range
+  // grows with the mesh; a shared one must be set again. Returns P; new_elems (optional) gets
+  // the appended elements, one per element around the edge. Throws std::invalid_argument when
+  // the edge is not bisectable (quad4 around it) or t is outside (0, 1).
+  int bisect_edge(int u, int w, double t, std::vector<int>* new_elems = nullptr);
+  // Elements of the mesh as built; the ones after them came from cuts, each with its parent.
+  int mesh_elements() const { return mesh_elems_; }
+  int element_parent(int e) const { return e < mesh_elems_ ? -1 : elem_parent_[e - mesh_elems_]; }
+  // Element e's reference measure as a fraction of the mesh element it is a piece of (1 for
+  // mesh elements).
+  double piece_fraction(int e) const;
+  // Nodes made by cuts: (P, u, w) per cut, in order.
+  const std::vector<int>& cut_nodes() const { return cut_nodes_; }
   bool counted(int n) const { return counted_.empty() || counted_[n]; }
   // Force (3 per reaction group) that the constraints applied to the body in the last force
   // evaluation: m a - f summed over the group's held components.
@@ -221,6 +244,17 @@ public:
 
 private:
   void resize_nodes(int nn);
+  // bisect_edge's parts (fem/body_cut.cpp).
+  void cut_conditions(int p, int u, int w, double t);
+  void cut_masses(int p, int u, int w, const double* loss);
+  void cut_elements(const std::vector<int>& parents, int first_child, double t);
+  // Restart (version 5): the elements and nodes made by cuts.
+  void pack_growth(std::vector<double>& buf) const;
+  const double* unpack_growth(const double* p, int ne);
+  void join_cut_node_sets(int n);
+  void cut_node_groups(int n);
+  long cut_index(int n) const;
+  void restore_cut_elements();
   // Velocity factor of a prescribed node at time t (its ramp), and its rate.
   double ramp_factor(int n, double t) const
   {
@@ -259,7 +293,11 @@ private:
   std::vector<int> component_group_;
   std::vector<double> reactions_; // 3 per group
   std::vector<int> parent_;
-  std::vector<double> state_; // per integration point, see FeSpace::state_offset
+  int mesh_elems_ = 0;               // elements of the mesh as built
+  std::vector<int> elem_parent_;     // per element made by a cut (index - mesh_elems_): its parent
+  std::vector<int> cut_nodes_;       // (P, u, w) per bisected edge
+  std::vector<double> mesh_measure_; // reference measure of each mesh element (from the 1st cut)
+  std::vector<double> state_;        // per integration point, see FeSpace::state_offset
   BulkViscosity viscosity_;
   // Per element: viscous work so far, q W of the last counted evaluation (restart state); q W and
   // volumetric strain rate of the latest evaluation (recomputed every step).

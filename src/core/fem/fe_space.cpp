@@ -1008,6 +1008,30 @@ void FeSpace::build(const Mesh& mesh, const Material& mat)
   }
 }
 
+void FeSpace::set_element(const Mesh& mesh, int e)
+{
+  const int held = static_cast<int>(measure_.size());
+  const ElemType t = mesh.etype[e];
+  if (e < 0 || e > held || (e < held && offset_[e + 1] - offset_[e] != block_size(t)))
+    throw FeError(e, elem_msg(e, "cannot be set: no such element slot of its type"));
+  double p[12], block[kQuadBlock], measure = 0, value = 0;
+  for (int a = 0; a < nodes_per_elem(t); ++a)
+    for (int i = 0; i < 3; ++i)
+      p[3 * a + i] = mesh.X[3 * mesh.conn[e][a] + i];
+  if (element_geometry(t, p, axisym_, mat_.thickness, block, measure, value) != Geo::Ok)
+    throw FeError(e, elem_msg(e, "is inverted or degenerate after a cut (measure " +
+                                     std::to_string(value) + ")"));
+  if (e == held) {
+    offset_.push_back(offset_.back() + block_size(t));
+    geo_.resize(offset_.back(), 0.0);
+    measure_.push_back(0.0);
+    const int per_point = material_model_info(mat_.model).state_per_point;
+    state_offset_.push_back(state_offset_.back() + per_point * points_per_elem(t));
+  }
+  std::copy(block, block + block_size(t), geo_.begin() + offset_[e]);
+  measure_[e] = measure;
+}
+
 /* ---------------------------------------------------------------------- */
 
 void FeSpace::element_masses(const Mesh& mesh, int e, double me[4]) const

@@ -41,6 +41,11 @@ public:
   // EOS that material_setup_error refuses (e.g. plane stress).
   void build(const Mesh& mesh, const Material& mat);
 
+  // (Re)computes element e's precomputed data from mesh.X after a cut changed its nodes; e ==
+  // the number of elements held appends a block (and its material-state slot) for a new element.
+  // Throws FeError when the element is inverted or degenerate (nothing is appended then).
+  void set_element(const Mesh& mesh, int e);
+
   // Lumped nodal masses (one per node, inactive elements skipped): rho * volume (3D),
   // rho * area * thickness (plane strain), rho * 2 pi * integral of r dA (axisymmetric, full ring,
   // r-weighted consistent row sums).

@@ -1,5 +1,7 @@
-// Nodal fracture: failure map, crack points and node splits along element boundaries.
+// Nodal fracture: failure map, crack points, cuts through elements (min_size) and node splits.
 #include "fracture/nodal_fracture.h"
+
+#include "fracture/element_cut.h"
 
 #include <algorithm>
 
@@ -59,11 +61,11 @@ int driving_element(const Body& body, int v, double n[3])
 // side would open a second, parallel crack and cut the band out as a sliver fragment. Nodes
 // on the same crack line (within a third of the element's size of the plane) continue it.
 bool band_already_cracked(const Body& body, const std::vector<char>& on_crack, int e, int v,
-                          const double n[3])
+                          const double n[3], double line_tolerance = 1.0 / 3.0)
 {
   const Mesh& mesh = body.mesh();
   const double* x = body.positions().data();
-  const double tol = element_diameter(mesh, e) / 3.0;
+  const double tol = element_diameter(mesh, e) * line_tolerance;
   for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a) {
     const int w = mesh.conn[e][a];
     if (w == v || !on_crack[w]) continue;
@@ -99,20 +101,55 @@ void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
   }
 }
 
+// Cuts through the elements of v's star that the failure plane crosses (each cut adds a node,
+// which is on no crack yet). A cut puts a face in the plane and so competes with every later
+// one: a handful per point at most; the bound only guards the loop.
+void cut_star(Body& body, int v, const double n[3], double min_size, std::vector<char>& on_crack,
+              std::vector<CutEvent>* cuts)
+{
+  constexpr int kMaxCutsPerPoint = 8;
+  for (int k = 0; k < kMaxCutsPerPoint; ++k) {
+    const ElementCut cut =
+        find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n, min_size,
+                         [&body](int e) { return body.piece_fraction(e); });
+    if (!cut.found()) return;
+    CutEvent ev{v, cut.elem, cut.u, cut.w, cut.t, -1, {}};
+    std::vector<int> added;
+    ev.new_node = body.bisect_edge(cut.u, cut.w, cut.t, &added);
+    on_crack.push_back(1); // on the crack's line: where it goes on
+    // elem's child first, then the neighbours'.
+    for (int c : added)
+      if (body.element_parent(c) == cut.elem) ev.new_elems.push_back(c);
+    for (int c : added)
+      if (body.element_parent(c) != cut.elem) ev.new_elems.push_back(c);
+    if (cuts) cuts->push_back(ev);
+  }
+}
+
 } // namespace
 
-std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points)
+std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,
+                                      std::vector<CutEvent>* cuts)
 {
-  // Nodes on a physical crack: split nodes and their copies.
+  // Nodes on a physical crack: split nodes and their copies (and, with cuts, the nodes made on
+  // a crack's line by a cut, where the crack goes on).
   std::vector<char> on_crack(body.num_nodes(), 0);
   for (int w = 0; w < body.num_nodes(); ++w)
     if (body.parents()[w] >= 0) on_crack[w] = on_crack[body.parents()[w]] = 1;
+  const bool cutting = min_size > 0;
+  if (cutting)
+    for (size_t k = 0; k < body.cut_nodes().size(); k += 3)
+      on_crack[body.cut_nodes()[k]] = 1;
+  // A cut crack runs exactly along its plane, so only nodes much nearer to it than a third of
+  // an element (those the min_size guard kept the cut from passing beside) continue it.
+  const double line_tolerance = cutting ? std::min(1.0 / 3.0, 0.5 * min_size) : 1.0 / 3.0;
   std::vector<SplitEvent> events;
   for (int v : points) {
     // Re-checked here: a split earlier in this pass may have opened this band already.
     double n[3] = {0, 0, 0};
     const int e = driving_element(body, v, n);
-    if (e < 0 || band_already_cracked(body, on_crack, e, v, n)) continue;
+    if (e < 0 || band_already_cracked(body, on_crack, e, v, n, line_tolerance)) continue;
+    if (cutting) cut_star(body, v, n, min_size, on_crack, cuts);
     const SplitPlan plan = body.plan_split(v, n);
     if (!plan.splittable()) continue;
     SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};

@@ -34,6 +34,16 @@ struct SplitEvent {
   int elements_moved;
 };
 
+// One crack through an element (fracture nodal min_size): the star element crossed at crack
+// point `node`, its edge uw bisected at t, the new node and the new elements (the first is
+// elem's other child; the rest, those of the neighbours around the edge).
+struct CutEvent {
+  int node, elem, u, w;
+  double t;
+  int new_node;
+  std::vector<int> new_elems;
+};
+
 // Stage (iii): at each crack point, in ascending order, a failure plane through the node with
 // the failure direction of its most failed element (still smeared) as normal; the node is split and
 // the crack opens along the element boundaries between the two sides of the plane (no element is
@@ -43,7 +53,12 @@ struct SplitEvent {
 // crack per band, no sliver fragments). Then a node whose star fell into pieces that touch only
 // at it is split into one node per piece (event with a zero normal). Every replica that calls
 // this on the same body and points makes the same splits.
-std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points);
+// With min_size > 0 (fracture nodal min_size), before a point's split, the failure plane may
+// first cut through elements of its star (fracture/element_cut.h, Body::bisect_edge) where it
+// is better aligned than the element boundaries and both pieces keep at least min_size of the
+// parent's measure; the split then opens along the cut. Cuts go to *cuts (if given).
+std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points,
+                                      double min_size = 0, std::vector<CutEvent>* cuts = nullptr);
 
 // Mass of every fragment (connected piece of active elements; a node's lumped mass counts with the
 // piece of its elements), largest first.
