@@ -5,7 +5,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from fracdem import ceramic  # noqa: E402
 
-h = float(sys.argv[1]) if len(sys.argv) > 1 else 1.25e-3
+h = float(sys.argv[1]) if len(sys.argv) > 1 else 5e-3 / 3
 here = os.path.dirname(os.path.abspath(__file__))
 print(ceramic.target_meshes(here, h))
 print(ceramic.plate_3d_meshes(here, 2.5e-3))

@@ -84,7 +84,7 @@ def radii(outer, h_fine, r_fine, growth=1.2, h_max=None):
     h_max = 2 * h_fine if h_max is None else h_max
     pts = [i * h_fine for i in range(int(round(r_fine / h_fine)) + 1)]
     h = h_fine
-    while h * growth < h_max and pts[-1] + h * growth < outer:
+    while h * growth < h_max and pts[-1] + 2 * h * growth <= outer:  # leave one cell or more
         h *= growth
         pts.append(pts[-1] + h)
     n = max(1, int(math.ceil((outer - pts[-1]) / h_max - 1e-9)))
