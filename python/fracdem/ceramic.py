@@ -32,6 +32,7 @@ from . import meshgen
 # ---- geometry (m) ----------------------------------------------------------------------------
 COVER_T, TILE_T, N_TILES, TARGET_R = 6e-3, 25e-3, 3, 74e-3
 BACKING_T = 100e-3
+RHA_BLOCK_T = 200e-3  # the steel-only reference target (in.rod_rha), deeper than Lanz-Odermatt's P
 ROD_D, ROD_L = 10e-3, 150e-3
 GAP = 0.2e-3  # rod nose above the cover at t = 0
 VELOCITIES = (1325.0, 1800.0)
@@ -155,6 +156,13 @@ def target_meshes(folder, h, tiles=N_TILES, cover=True, backing_t=BACKING_T, r_f
     return counts
 
 
+def rha_block_mesh(folder, h, thickness=RHA_BLOCK_T, r_fine=20e-3, growth=1.2):
+    """The steel-only reference target: rha_block.msh (quad4), an RHA block of radius TARGET_R
+    and `thickness` with its front face at y = 0, meshed like the backing."""
+    r = radii(TARGET_R, h, max(r_fine, ROD_D), growth, h_max=4 * h)
+    return _write(os.path.join(folder, "rha_block.msh"), r, levels(0.0, thickness, h), "quad4")
+
+
 def plate_3d_meshes(folder, h, rod_d=ROD_D, rod_l=30e-3, plate_t=10e-3, plate_w=40e-3):
     """The 3D companion: a square tet4 rod (side rod_d, length rod_l) above a square tet4 plate
     (plate_w x plate_w x plate_t, front face z = 0, cells of 2 h), both centred on the z axis. Writes
@@ -195,30 +203,82 @@ def last_frame(folder, body):
     return max(frames, key=lambda f: int(re.findall(r"_(\d+)\.vtu$", f)[0]))
 
 
-def depth(folder, backing_top=-(COVER_T + N_TILES * TILE_T), r_axis=None):
-    """From the last frames in `folder`: the depth of penetration into the backing (its initial
-    front face minus the highest point of its remaining elements within one rod radius of the
-    axis: the crater floor) and the residual rod length (axial extent of its remaining elements).
-    Returns (dop, residual length) in m."""
+def depth(folder, backing_top=-(COVER_T + N_TILES * TILE_T), body="backing", thickness=BACKING_T,
+          r_axis=None):
+    """From the last frames in `folder`: the depth of penetration into `body` (its initial front
+    face minus the highest point of its remaining elements within one rod radius of the axis:
+    the crater floor; `thickness` when nothing is left there) and the residual rod length (axial
+    extent of the rod's remaining elements). Returns (dop, residual length) in m."""
     r_axis = ROD_D / 2 if r_axis is None else r_axis
-    pts, cells = _frame(last_frame(folder, "backing"))
+    pts, cells = _frame(last_frame(folder, body))
     used = np.unique([n for c in cells for n in c])
     near = [n for n in used if pts[n, 0] <= r_axis]
-    floor = max(pts[n, 1] for n in near) if near else backing_top - BACKING_T
+    floor = max(pts[n, 1] for n in near) if near else backing_top - thickness
     pts, cells = _frame(last_frame(folder, "rod"))
     used = np.unique([n for c in cells for n in c])
     residual = float(np.ptp(pts[used, 1])) if len(used) else 0.0
     return max(0.0, backing_top - floor), residual
 
 
+BODIES = ("rod", "cover", "tile1", "tile2", "tile3", "backing")
+HELD = ("kinetic", "strain", "plastic_work", "fracture_energy", "viscous_work", "eroded_energy")
+WORK = ("external_work", "contact_work", "boundary_work", "shield_work")
+
+
+def energy_summary(folder, bodies=BODIES):
+    """From the energy files BODY_energy.csv in `folder`: E0 and, as fractions of it at the last
+    common row, what the bodies hold (HELD columns, summed), the summed contact work and the
+    worst balance error over all rows: |sum HELD - E0 - sum WORK| / E0."""
+    import csv
+
+    e = {}
+    for b in bodies:
+        with open(os.path.join(folder, f"{b}_energy.csv")) as f:
+            rows = list(csv.DictReader(f))
+        e[b] = {k: [float(r[k]) for r in rows] for k in rows[0]}
+    n = min(len(e[b]["step"]) for b in bodies)
+    e0 = sum(e[b]["kinetic"][0] for b in bodies)
+
+    def total(cols, k):
+        return sum(e[b][c][k] for b in bodies for c in cols if c in e[b])
+
+    worst = max(abs(total(HELD, k) - e0 - total(WORK, k)) / e0 for k in range(n))
+    out = {c: total((c,), n - 1) / e0 for c in HELD + ("contact_work",)}
+    out.update(E0=e0, balance=worst, eroded={b: int(e[b]["eroded_elements"][n - 1]) for b in bodies})
+    return out
+
+
+def mass_efficiency(v, dop, ceramic_t=N_TILES * TILE_T, cover_t=COVER_T):
+    """Mass efficiency of the ceramic against the Lanz-Odermatt steel depth: the areal density of
+    RHA it replaced, rho_s (P_LO - cover - DOP), over its own, rho_c t_c (DOP-test definition)."""
+    return RHA["rho"] * (lanz_odermatt(v) - cover_t - dop) / (AD995["rho"] * ceramic_t)
+
+
+def _report(folder, bodies, dop, rest, thickness, efficiency):
+    s = energy_summary(folder, bodies)
+    print(f"depth of penetration {dop * 1e3:.1f} mm "
+          f"({'perforated' if dop >= thickness else 'not perforated'}), "
+          f"residual rod length {rest * 1e3:.1f} mm")
+    print(f"E0 {s['E0']:.0f} J; worst energy balance error {100 * s['balance']:.3f} % of E0; "
+          f"eroded elements {s['eroded']}")
+    print("fractions of E0 at the end: " + ", ".join(
+        f"{c} {s[c]:.4f}" for c in HELD + ("contact_work",)))
+    v = math.sqrt(2 * s["E0"] / (WHA["rho"] * math.pi * ROD_D ** 2 / 4 * ROD_L))
+    line = f"impact at {v:.0f} m/s: Lanz-Odermatt depth into semi-infinite RHA {lanz_odermatt(v) * 1e3:.1f} mm"
+    if efficiency:
+        bound = "at most " if dop >= thickness else ""
+        line += f"; ceramic mass efficiency {bound}{mass_efficiency(v, dop):.2f}"
+    print(line)
+
+
 if __name__ == "__main__":
     import sys
 
     if len(sys.argv) == 3 and sys.argv[1] == "depth":
-        dop, rest = depth(sys.argv[2])
-        print(f"depth of penetration into the backing {dop * 1e3:.1f} mm, "
-              f"residual rod length {rest * 1e3:.1f} mm")
-        for v in VELOCITIES:
-            print(f"Lanz-Odermatt, semi-infinite RHA, {v:g} m/s: P = {lanz_odermatt(v) * 1e3:.1f} mm")
+        _report(sys.argv[2], BODIES, *depth(sys.argv[2]), BACKING_T, True)
+    elif len(sys.argv) == 3 and sys.argv[1] == "depth_rha":
+        dop, rest = depth(sys.argv[2], 0.0, "rha_block", RHA_BLOCK_T)
+        _report(sys.argv[2], ("rod", "rha_block"), dop, rest, RHA_BLOCK_T, False)
     else:
-        print("usage: python3 -m fracdem.ceramic depth OUT_FOLDER")
+        print("usage: python3 -m fracdem.ceramic depth|depth_rha OUT_FOLDER "
+              "(in.ceramic_target | in.rod_rha output)")
