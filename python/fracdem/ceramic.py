@@ -135,7 +135,8 @@ def target_meshes(folder, h, tiles=N_TILES, cover=True, backing_t=BACKING_T, r_f
                   growth=1.2, rod_l=ROD_L, target_r=TARGET_R, tile_t=TILE_T):
     """Write rod.msh (quad4), cover.msh (quad4), tile1..N.msh (tri3), backing.msh (quad4) into
     `folder`: cells of h up to r = r_fine (at least the rod's diameter), then growing outwards
-    to 2 h in the tiles (their crack band) and 4 h in the metals, up to target_r. Each mesh has the edge groups xmin (axis), xmax, ymin, ymax. Returns
+    to 2 h in the tiles (their crack band) and 4 h in the metals, up to target_r. Each mesh has
+    the edge groups xmin (axis), xmax, ymin, ymax. Returns
     {name: element count}."""
     r_tile = radii(target_r, h, max(r_fine, ROD_D), growth)  # cells <= 2 h (crack band)
     r_metal = radii(target_r, h, max(r_fine, ROD_D), growth, h_max=4 * h)
@@ -264,7 +265,8 @@ def _report(folder, bodies, dop, rest, thickness, efficiency):
     print("fractions of E0 at the end: " + ", ".join(
         f"{c} {s[c]:.4f}" for c in HELD + ("contact_work",)))
     v = math.sqrt(2 * s["E0"] / (WHA["rho"] * math.pi * ROD_D ** 2 / 4 * ROD_L))
-    line = f"impact at {v:.0f} m/s: Lanz-Odermatt depth into semi-infinite RHA {lanz_odermatt(v) * 1e3:.1f} mm"
+    line = (f"impact at {v:.0f} m/s: Lanz-Odermatt depth into semi-infinite RHA "
+            f"{lanz_odermatt(v) * 1e3:.1f} mm")
     if efficiency:
         bound = "at most " if dop >= thickness else ""
         line += f"; ceramic mass efficiency {bound}{mass_efficiency(v, dop):.2f}"

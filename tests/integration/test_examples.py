@@ -54,6 +54,7 @@ for script in examples:
             f"{name}: {len(vtus)} body frames + {len(pvds)} .pvd written")
     for pvd in pvds:
         with open(pvd) as f:
-            h.check(f.read().count("<DataSet") == frames, f"{name}: {os.path.basename(pvd)} indexes every frame")
+            h.check(f.read().count("<DataSet") == frames,
+                    f"{name}: {os.path.basename(pvd)} indexes every frame")
     made = sorted(d for d in os.listdir(wd) if os.path.isdir(os.path.join(wd, d)))
     h.check(made == ["out"], f"{name}: the run made only the directory out/ ({made})")
