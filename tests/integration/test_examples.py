@@ -33,7 +33,9 @@ for script in examples:
         src = os.path.join(os.path.dirname(script), f)
         if os.path.isfile(src):
             shutil.copy(src, wd)
-    steps = 4000
+    # Shortened to 4000 steps, or to what a heavy example asks in its header ("# smoke test: N steps").
+    smoke = re.search(r"^# smoke test: (\d+) steps", open(script).read(), re.M)
+    steps = int(smoke.group(1)) if smoke else 4000
     out = h.run(args.exe, os.path.basename(script), np_=2, workdir=wd, variables=dict(steps=steps))
     runs = h.thermo_blocks(out)
     atoms = h.column(runs, "Atoms")
