@@ -76,6 +76,9 @@ public:
   void begin_forces();
   // Zeroes the internal forces only (to take them again after an erosion within the step).
   void clear_internal_forces() { std::fill(f_.begin(), f_.end(), 0.0); }
+  // A sub-cycled FE step between two contact evaluations of the host (BodyDriver): the contact
+  // forces of the last evaluation act again, and finish_forces counts their work over the substep.
+  void hold_contact_forces() { f_contact_ = f_contact_prev_; }
   // Internal forces of this rank's elements into forces(); returns their strain energy.
   // An inverted element (det F <= 0) sets *first_inverted (if still < 0). With bulk viscosity the
   // viscous forces of the current (mid-step) velocities are added; their work is counted once per
