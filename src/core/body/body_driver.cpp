@@ -464,8 +464,10 @@ void BodyDriver::end_step(std::int64_t step, double dt)
   // The held contact force reached the body earlier than the Verlet average its partners got:
   // the difference, so that momentum is exchanged exactly every host step.
   if (step_substeps_ > 1) body_.kick_contact_difference(0.5 * (dt - dt / step_substeps_));
-  if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
+  // Fracture first: it erodes the collapsed failed elements, whose stable step the periodic
+  // check would otherwise follow for one step.
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
+  if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
   write_energy_row_if_due(step);
 }
 
