@@ -12,8 +12,10 @@ Asserted:
 * `erosion_mass remove` takes mass out (eroded_mass > 0, nodal mass drops by as much) and the
   balance closes as well;
 * `erosion min_dt DT`: a block with one squeezed corner whose elements' stable step lies below the
-  host step stops without erosion (dt check) and with `erosion min_dt` (DT = host step) erodes
-  them at set-up (logged 'min_dt') and runs.
+  host step stops without erosion and without sub-cycling (`substeps off`: dt check), sub-cycles
+  with the default `substeps auto` (n = ceil(dt / dt_stable), logged; it runs with a finite
+  state), and with `erosion min_dt` (DT = host step) erodes them at set-up (logged 'min_dt') and
+  runs without sub-cycling.
 About a minute.
 """
 import math
@@ -98,9 +100,18 @@ def squeezed(extra, expect_fail):
     return h.run(args.exe, "in.squeezed", workdir=wd, expect_fail=expect_fail)
 
 
-out = squeezed("", True)
-h.check("exceeds the stable FE time step" in out, "squeezed corner without erosion: the run stops "
-        "(host step above the squeezed elements' stable step)")
+out = squeezed("substeps off", True)
+h.check("exceeds the stable FE time step" in out, "squeezed corner without erosion, 'substeps off': "
+        "the run stops (host step above the squeezed elements' stable step)")
+out = squeezed("", False)
+dts = h.stable_dt(out)
+m = re.search(r"stable FE time step \S+ < host time step \S+: (\d+) FE substeps per host step", out)
+e = h.read_csv(os.path.join(wd, "squeezed.csv"))
+h.check(m is not None and int(m.group(1)) == math.ceil(1e-6 / dts) and e["step"][-1] == 200
+        and set(e["substeps"]) == {int(m.group(1))}
+        and all(math.isfinite(v) for col in e.values() for v in col),
+        f"squeezed corner, 'substeps auto': {m.group(1) if m else 0} FE substeps per host step "
+        f"(ceil(1e-6 / {dts:.3g})), the run completes with a finite state")
 out = squeezed("erosion min_dt 1e-6", False)
 m = re.search(r"step 0: eroded (\d+) elements \(min_dt \d+\)", out)
 e = h.read_csv(os.path.join(wd, "squeezed.csv"))

@@ -17,6 +17,9 @@ Asserted (time step 0.1 of the set-up stable step: the cells at the wall flatten
    spread is 0.5 % in length and 1.4 % in radius, and on these coarse meshes the foot radius is
    one node's position); the energy balance of 1. within 0.5 %; the two meshes agree on length
    and radius within 2 %.
+3. At 0.9 of the set-up stable step (the squeezed foot's stable step falls below it): with
+   `substeps off` the run warns; with `substeps auto` (default) the body sub-cycles (logged, the
+   energy file's `substeps` column above 1), without the warning, and the balance of 1. holds.
 
 The plastic laws under `model corotational` see the logarithmic strain ln U of the corotated
 stretch and return the rotated Kirchhoff stress (src/core/fem/fe_space.cpp), so the plastic foot
@@ -25,6 +28,7 @@ its volume and inverted at 6-12 us (docs/validation.md, Taylor bar). An inverted
 fails the test like any other error.
 """
 import os
+import re
 import sys
 import tempfile
 
@@ -42,14 +46,15 @@ TOL_SHAPE, TOL_ENERGY_EARLY, TOL_ENERGY, TOL_MESHES = 0.05, 0.005, 0.005, 0.02
 MESHES = (4, 5)
 
 
-def scene(nr):
-    """Work directory with the mesh of nr radial cells and in.taylor; returns (wd, stable dt)."""
+def scene(nr, extra=""):
+    """Work directory with the mesh of nr radial cells and in.taylor (the body command with
+    `extra` keywords); returns (wd, stable dt)."""
     wd = tempfile.mkdtemp(prefix=f"taylor_{nr}_")
     h.copy_inputs(["in.fe_common_2d"], wd)
     taylor.bar_mesh(os.path.join(wd, "bar.msh"), nr)
     with open(os.path.join(wd, "in.taylor"), "w") as f:
         f.write("include in.fe_common_2d\ntimestep ${dt}\n"
-                + taylor.body_command("bar.msh", "energy.csv", "${every}") + "\n"
+                + taylor.body_command("bar.msh", "energy.csv", "${every}", extra) + "\n"
                 "thermo_style custom step f_bar[1] f_bar[2] f_bar[16]\nthermo ${every}\nrun ${steps}\n")
     out = h.run(EXE, "in.taylor", workdir=wd, variables=dict(dt=1e-12, every=1, steps=0))
     return wd, h.stable_dt(out)
@@ -101,8 +106,19 @@ d = max(abs(la / lb - 1), abs(ra / rb - 1))
 h.check(d < TOL_MESHES, f"the two meshes agree: length and foot radius within {100 * d:.2f} %")
 
 # 3. A time step that set-up accepts (0.9 of the stable step of the undeformed bar) but that the
-# squeezed foot cannot follow: the run warns, with the figures, before it loses stability.
-wd, dt0 = scene(MESHES[0])
+# squeezed foot cannot follow: without sub-cycling the run warns, with the figures, before it
+# loses stability; with 'substeps auto' (the default) the body sub-cycles from the periodic check
+# on (logged) and the energy balance of 1. holds.
+wd, dt0 = scene(MESHES[0], "substeps off")
 run_to(wd, dt0, EARLY, fraction=0.9)
-h.check(SQUEEZED in run_to.text, "at 0.9 of the set-up stable step the run warns that the "
-                                 "squeezed elements' stable step fell below the host step")
+h.check(SQUEEZED in run_to.text, "'substeps off': at 0.9 of the set-up stable step the run warns "
+                                 "that the squeezed elements' stable step fell below the host step")
+wd, dt0 = scene(MESHES[0])
+e = run_to(wd, dt0, EARLY, fraction=0.9)
+changes = re.findall(r"step \d+: stable FE time step \S+ < host time step \S+: (\d+) FE substeps",
+                     run_to.text)
+err = taylor.energy_balance_error(e)
+h.check(SQUEEZED not in run_to.text and changes and max(e["substeps"]) > 1
+        and err < TOL_ENERGY_EARLY,
+        f"'substeps auto': the squeezed foot is sub-cycled (n up to {max(e['substeps']):g}, "
+        f"{len(changes)} changes logged), no warning, energy balance within {100 * err:.3f} %")

@@ -275,7 +275,8 @@ void BodyDriver::set_gravity(const double g[3])
 }
 
 // With 'erosion min_dt DT' the elements below DT leave at the first force evaluation: the step
-// that counts is that of the others.
+// that counts is that of the others. A distributed body's parts take the smallest stable step
+// of all: every rank sub-cycles alike.
 void BodyDriver::check_time_step(double dt)
 {
   if (spec_->rigid) return;
@@ -283,10 +284,49 @@ void BodyDriver::check_time_step(double dt)
   if (distributed_) host_.min(&dt_stable_, 1);
   print(prefix() + time_step_line(dt_stable_, dt) +
         (spec_->erosion.min_dt > 0 ? " without the elements below erosion min_dt\n" : "\n"));
-  const std::string violation = time_step_violation(dt_stable_, dt, spec_->mesh_file);
+  substeps_ = spec_->substeps > 0 ? spec_->substeps : 1;
+  follow_stable_step(-1, dt, dt_stable_);
+  step_substeps_ = substeps_;
+  std::string violation;
+  if (substeps_ == 1)
+    violation = time_step_violation(dt_stable_, dt, spec_->mesh_file);
+  else if (dt / substeps_ > dt_stable_)
+    violation = format("FE step %g (host timestep %g / substeps %d) exceeds the stable FE time "
+                       "step %g of mesh '%s'; give more 'substeps' (or 'substeps auto'), reduce "
+                       "'timestep' or coarsen the mesh (keyword 'dt_check warn' runs anyway)",
+                       dt / substeps_, dt, substeps_, dt_stable_, spec_->mesh_file.c_str());
   if (violation.empty()) return;
   if (spec_->dt_check_error) fail(prefix() + violation);
   warn(prefix() + violation);
+}
+
+// substeps auto: the FE steps per host step that the stable step dt_stable asks for (at most
+// kMaxSubsteps; beyond, the callers' checks of the FE step stop or warn as dt_check says); a
+// change is logged. step < 0: at set-up. Every replica (and every part of a distributed body,
+// which calls this at set-up only, with the smallest step of the parts) finds the same n.
+void BodyDriver::follow_stable_step(std::int64_t step, double dt, double dt_stable)
+{
+  if (spec_->substeps != kSubstepsAuto || spec_->rigid) return;
+  int n = 1;
+  if (dt > dt_stable) {
+    const double ratio = dt / dt_stable;
+    n = ratio < kMaxSubsteps ? static_cast<int>(std::ceil(ratio)) : kMaxSubsteps;
+    while (n < kMaxSubsteps && dt / n > dt_stable) // ceil of a rounded ratio
+      ++n;
+  }
+  if (n == substeps_) return;
+  substeps_ = n;
+  const std::string when = step < 0 ? "" : "step " + std::to_string(step) + ": ";
+  print(prefix() + when +
+        format("stable FE time step %g %s host time step %g: %d FE substep%s per host step\n",
+               dt_stable, n > 1 ? "<" : ">=", dt, n, n > 1 ? "s" : ""));
+}
+
+// "host time step DT", or with sub-cycling "FE step H (host time step DT / N substeps)".
+std::string BodyDriver::step_text(double dt) const
+{
+  if (substeps_ == 1) return format("host time step %g", dt);
+  return format("FE step %g (host time step %g / %d substeps)", dt / substeps_, dt, substeps_);
 }
 
 std::string BodyDriver::open_energy_file()
@@ -311,6 +351,8 @@ std::string BodyDriver::open_energy_file()
   for (const std::string& g : spec_->reaction_groups)
     std::fprintf(energy_fp_, ",displacement_%s_x,displacement_%s_y,displacement_%s_z", g.c_str(),
                  g.c_str(), g.c_str());
+  // Last: the FE steps of the host step that ends at the row (where the body can sub-cycle).
+  if (can_substep()) std::fputs(",substeps", energy_fp_);
   std::fputc('\n', energy_fp_);
   return "";
 }
@@ -364,24 +406,82 @@ void BodyDriver::log_memory()
 
 /* ----------------------------------------------------------------------
    the step: velocity Verlet in step with the host (half kick + drift,
-   forces, half kick), then fracture and the energy row
+   forces, half kick), then fracture and the energy row. Sub-cycled
+   (n = step_substeps_ > 1, h = dt / n): n - 1 whole FE steps of h here,
+   each with the contact forces of the host's last evaluation held, then
+   the last step's half kick and drift; its forces come with the host's
+   contact evaluation, its second half kick in end_step
 ------------------------------------------------------------------------- */
 
 void BodyDriver::begin_step(double dt)
 {
-  body_.advance_time(dt);
-  if (spec_->rigid)
-    body_.move_rigid();
-  else
-    body_.half_kick_drift(dt);
+  if (spec_->rigid) {
+    body_.advance_time(dt);
+    return body_.move_rigid();
+  }
+  step_substeps_ = substeps_;
+  const double h = dt / step_substeps_;
+  for (int k = 1; k < step_substeps_; ++k)
+    substep(dt, h);
+  body_.advance_time(h);
+  body_.half_kick_drift(h);
+}
+
+// One whole FE step of h within the host step dt.
+void BodyDriver::substep(double dt, double h)
+{
+  body_.advance_time(h);
+  body_.half_kick_drift(h);
+  substep_forces(dt, h);
+  body_.half_kick(h);
+}
+
+// The forces of a substep: internal forces at the new positions (erosion and inverted elements
+// as in compute_forces), the held contact forces and gravity, with their work over h. No contact
+// search and no particle loop: those belong to the host step.
+void BodyDriver::substep_forces(double dt, double h)
+{
+  const std::int64_t step = step_ + 1;
+  body_.clear_internal_forces();
+  body_.hold_contact_forces();
+  if (distributed_) return distributed_forces(step, h, true);
+  int first_inverted = -1;
+  double scalars[2] = {internal_forces(step, dt, first_inverted), 0.0};
+  scalars[1] = first_inverted >= 0 ? first_inverted + 1.0 : 0.0;
+  if (split_element_work_) {
+    host_.sum(body_.forces_data(), 3 * body_.num_nodes());
+    host_.sum(scalars, 1);
+    host_.max(&scalars[1], 1);
+  }
+  check_state(step, scalars[0], scalars[1]);
+  body_.finish_forces(scalars[0], gravity_, h, true);
+}
+
+// Stops the run at an inverted element (inverted: its index + 1, 0 for none) or a NaN energy.
+void BodyDriver::check_state(std::int64_t step, double energy, double inverted) const
+{
+  if (inverted > 0)
+    fail(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
+                "; the time step is too large or the load too severe for this mesh",
+                id_.c_str(), static_cast<int>(inverted) - 1, step));
+  if (!std::isfinite(energy))
+    fail(format("fix fem/body %s: non-finite strain energy at step %" PRId64
+                " (NaN/Inf in the body state)",
+                id_.c_str(), step));
 }
 
 void BodyDriver::end_step(std::int64_t step, double dt)
 {
+  step_ = step;
   if (spec_->rigid) return;
-  body_.half_kick(dt);
-  if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
+  body_.half_kick(dt / step_substeps_);
+  // The held contact force reached the body earlier than the Verlet average its partners got:
+  // the difference, so that momentum is exchanged exactly every host step.
+  if (step_substeps_ > 1) body_.kick_contact_difference(0.5 * (dt - dt / step_substeps_));
+  // Fracture first: it erodes the collapsed failed elements, whose stable step the periodic
+  // check would otherwise follow for one step.
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
+  if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
   write_energy_row_if_due(step);
 }
 
@@ -389,12 +489,14 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
                                 bool count_work)
 {
   const int nn = body_.num_nodes();
+  step_ = step;
+  const double h = dt / step_substeps_; // the FE step whose forces these are
   body_.begin_forces();
   if (distributed_) {
     if (particles)
       fail(prefix() + "keyword 'parallel distributed': the body has no contact with particles "
                       "yet; use 'parallel replicated' for a body that particles hit");
-    return distributed_forces(step, dt, count_work);
+    return distributed_forces(step, h, count_work);
   }
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
@@ -430,21 +532,14 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   }
   ncontacts_ = static_cast<int>(scalars[1]);
   if (scalars[2] > 0 && !warned_unresolved_) warn_unresolved_contact(step, res);
-  if (scalars[3] > 0)
-    fail(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
-                "; the time step is too large or the load too severe for this mesh",
-                id_.c_str(), static_cast<int>(scalars[3]) - 1, step));
-  if (!std::isfinite(scalars[0]))
-    fail(format("fix fem/body %s: non-finite strain energy at step %" PRId64
-                " (NaN/Inf in the body state)",
-                id_.c_str(), step));
-  body_.finish_forces(scalars[0], gravity_, dt, count_work);
+  check_state(step, scalars[0], scalars[3]);
+  body_.finish_forces(scalars[0], gravity_, h, count_work);
 }
 
 // parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
 // parts (one message each, no collective); a rank that finds an inverted element or a NaN stops
-// the run by itself (no per-step reduction to find out).
-void BodyDriver::distributed_forces(std::int64_t step, double dt, bool count_work)
+// the run by itself (no per-step reduction to find out). h: the FE step.
+void BodyDriver::distributed_forces(std::int64_t step, double h, bool count_work)
 {
   int first_inverted = -1;
   const double energy = body_.add_internal_forces(&first_inverted);
@@ -457,23 +552,27 @@ void BodyDriver::distributed_forces(std::int64_t step, double dt, bool count_wor
     fail_one(format("fix fem/body %s: non-finite strain energy at step %" PRId64
                     " (NaN/Inf in the body state)",
                     id_.c_str(), step));
-  body_.finish_forces(energy, gravity_, dt, count_work);
+  body_.finish_forces(energy, gravity_, h, count_work);
 }
 
 // Elements squeezed by the deformation (impact, plastic flow) shorten the stable step that set-up
-// measured: warned once, with the figures, before the run loses stability. Each rank checks what
-// it holds (a distributed body its part: no collective).
+// measured: under 'substeps auto' the FE steps per host step follow it (up or down); a step still
+// too large is warned once, with the figures, before the run loses stability. Each rank checks
+// what it holds (a distributed body its part, which cannot agree on a new n without a
+// collective: its n stays that of set-up).
 void BodyDriver::check_squeezed(std::int64_t step, double dt)
 {
-  if (warned_squeezed_) return;
+  const bool follow = spec_->substeps == kSubstepsAuto && !distributed_;
+  if (warned_squeezed_ && !follow) return;
   const double now = stable_time_step_after_erosion(body_, spec_->erosion);
-  if (!(now < dt)) return;
+  if (follow) follow_stable_step(step, dt, now);
+  if (!(now < dt / substeps_) || warned_squeezed_) return;
   warned_squeezed_ = true;
   const std::string text =
       format("fix fem/body %s: at step %" PRId64 " the stable FE time step of the deformed body "
-             "is %g < host time step %g (%g at set-up): its elements have been squeezed and the "
-             "run can lose stability (an element inverts or the energy grows); reduce 'timestep'",
-             id_.c_str(), step, now, dt, dt_stable_);
+             "is %g < %s (%g at set-up): its elements have been squeezed and the run can lose "
+             "stability (an element inverts or the energy grows); reduce 'timestep'",
+             id_.c_str(), step, now, step_text(dt).c_str(), dt_stable_);
   if (distributed_ || host_.rank == 0) host_.warning(text);
 }
 
@@ -543,22 +642,24 @@ double BodyDriver::forces_after_erosion(std::int64_t step, double dt, double ene
 }
 
 // After an erosion batch: the exposed faces join contact at once, the batch is logged in one
-// line, and the stable step is taken again. With 'erosion min_dt DT' at or above the host step
-// no element is left below the host step; otherwise a squeezed element that no criterion removes
-// is warned about (once), as erosion never stops the run.
+// line, and the stable step is taken again (under 'substeps auto' the FE steps per host step
+// follow it). With 'erosion min_dt DT' at or above the FE step no element is left below it;
+// otherwise a squeezed element that no criterion removes is warned about (once), as erosion never
+// stops the run.
 void BodyDriver::after_erosion(std::int64_t step, double dt, const int* counts,
                                const std::vector<int>& batch)
 {
   rebuild_surfaces();
   print(erosion_line(step, counts, batch));
   dt_stable_ = body_.stable_time_step();
-  if (dt_stable_ >= dt || warned_dt_after_erosion_) return;
+  follow_stable_step(step, dt, dt_stable_);
+  const double h = dt / substeps_;
+  if (dt_stable_ >= h || warned_dt_after_erosion_) return;
   warned_dt_after_erosion_ = true;
   warn(format("fix fem/body %s: after the erosion at step %" PRId64
-              " the stable FE time step is %g, below the host time step %g (an element squeezed "
-              "that no erosion criterion removes); 'erosion min_dt %g' erodes such elements "
-              "(warned once)",
-              id_.c_str(), step, dt_stable_, dt, dt));
+              " the stable FE time step is %g, below the %s (an element squeezed that no erosion "
+              "criterion removes); 'erosion min_dt %g' erodes such elements (warned once)",
+              id_.c_str(), step, dt_stable_, step_text(dt).c_str(), h));
 }
 
 // One line per step: how many left, why, which (the first kMaxListed), and the totals.
@@ -677,16 +778,17 @@ void BodyDriver::share_element_work()
 }
 
 // Every topology change that can shorten the stable step (splits, cuts, erosion of a failed
-// element) comes here: the step is estimated again and one below the host step stops the run
-// (dt_check error) or is warned about.
+// element) comes here: the step is estimated again, 'substeps auto' follows it, and one still
+// below the FE step stops the run (dt_check error) or is warned about.
 void BodyDriver::check_step_after_cracks(std::int64_t step, double dt, bool cut)
 {
   dt_stable_ = body_.stable_time_step();
-  if (!(dt_stable_ < dt)) return;
+  follow_stable_step(step, dt, dt_stable_);
+  if (!(dt_stable_ < dt / substeps_)) return;
   const std::string msg =
       format("fix fem/body %s: at step %" PRId64
-             " the stable FE time step of the cracked body is %g < host time step %g%s",
-             id_.c_str(), step, dt_stable_, dt,
+             " the stable FE time step of the cracked body is %g < %s%s",
+             id_.c_str(), step, dt_stable_, step_text(dt).c_str(),
              cut ? " (cracks through elements made smaller elements: raise 'fracture nodal "
                    "min_size' or reduce 'timestep')"
                  : "");
@@ -836,6 +938,7 @@ void BodyDriver::write_distributed_energy_row(std::int64_t step)
     const double count = v[k + 3] > 0 ? v[k + 3] : 1.0;
     std::fprintf(fp, ",%.12g,%.12g,%.12g", v[k] / count, v[k + 1] / count, v[k + 2] / count);
   }
+  if (can_substep()) std::fprintf(fp, ",%d", step_substeps_);
   std::fputc('\n', fp);
   std::fflush(fp);
 }
@@ -867,6 +970,7 @@ void BodyDriver::write_energy_row(std::int64_t step)
         u[d] += (body_.positions()[3 * n + d] - body_.mesh().X[3 * n + d]) / nodes.size();
     std::fprintf(fp, ",%.12g,%.12g,%.12g", u[0], u[1], u[2]);
   }
+  if (can_substep()) std::fprintf(fp, ",%d", step_substeps_);
   std::fputc('\n', fp);
   std::fflush(fp);
 }
@@ -909,6 +1013,8 @@ double BodyDriver::vector_entry(int i)
     return body_.eroded().energy;
   case kVecShieldWork:
     return body_.shield_work();
+  case kVecSubsteps:
+    return step_substeps_;
   }
   return 0.0;
 }
@@ -930,6 +1036,8 @@ double BodyDriver::distributed_vector_entry(int i)
       value += part_.owns(n) ? 1.0 : 0.0;
   } else if (i == kVecStableDt) {
     return dt_stable_; // already the smallest of the parts'
+  } else if (i == vector_size() - kVecTailSize + kVecSubsteps) {
+    return step_substeps_; // the same on every part
   } else if (!body_vector_entry(body_, i, ngroups, value)) {
     value = i - (kVecSize + 3 * ngroups) == kVecShieldWork ? body_.shield_work() : 0.0;
   }

@@ -50,6 +50,7 @@ enum BodyVectorTail {
   kVecErodedMass,
   kVecErodedEnergy,
   kVecShieldWork,
+  kVecSubsteps,
   kVecTailSize
 };
 
@@ -86,7 +87,8 @@ public:
   void set_partners(const std::vector<BodyDriver*>& later, const std::vector<BodyDriver*>& earlier,
                     const std::function<double(int, int)>& friction);
   void set_gravity(const double g[3]);
-  // Logs the stable step against the host step dt, errors / warns as dt_check says.
+  // Logs the stable step against the host step dt, sets the FE steps per host step (substeps),
+  // errors / warns as dt_check says where the FE step stays above the stable step.
   void check_time_step(double dt);
   // Opens energy_file on rank 0 and writes its header; returns "" or the error text.
   std::string open_energy_file();
@@ -95,12 +97,14 @@ public:
   void log_memory();
 
   // ---- the step ----
+  // The body's first n - 1 FE steps of h = dt / n (n = substeps()), with the contact forces of the
+  // host's last evaluation held, then the half kick and drift of the last one.
   void begin_step(double dt);
   // Internal forces (erosion, inverted elements), body-body and particle contact (particles:
   // nullptr without particle contact), the reductions, the checks; count_work: not in set-up.
   void compute_forces(const ParticleArrays* particles, std::int64_t step, double dt,
                       bool count_work);
-  // Second half kick, fracture check, energy row.
+  // Second half kick (of the last FE step), fracture check, energy row.
   void end_step(std::int64_t step, double dt);
   void write_energy_row_if_due(std::int64_t step);
 
@@ -134,6 +138,10 @@ public:
   bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }
+  // FE steps of the host step under way (or of the first step of a run, after set-up), and of
+  // the next host step (changed by the stable step's re-estimates).
+  int substeps() const { return step_substeps_; }
+  int next_substeps() const { return substeps_; }
 
   // Exposed for tests: the fracture check and the erosion log line.
   void fracture(std::int64_t step, double dt);
@@ -151,6 +159,12 @@ private:
   std::string prefix() const { return "fix fem/body " + id_ + ": "; }
   void check_crack_band();
   void check_squeezed(std::int64_t step, double dt);
+  bool can_substep() const { return !spec_->rigid && spec_->substeps != kSubstepsOff; }
+  void follow_stable_step(std::int64_t step, double dt, double dt_stable);
+  std::string step_text(double dt) const;
+  void substep(double dt, double h);
+  void substep_forces(double dt, double h);
+  void check_state(std::int64_t step, double energy, double inverted) const;
   double internal_forces(std::int64_t step, double dt, int& first_inverted);
   double forces_after_erosion(std::int64_t step, double dt, double energy, int& first_inverted);
   void after_erosion(std::int64_t step, double dt, const int* counts,
@@ -170,7 +184,7 @@ private:
   int body_contacts(double dt);
   void write_energy_row(std::int64_t step);
   void write_distributed_energy_row(std::int64_t step);
-  void distributed_forces(std::int64_t step, double dt, bool count_work);
+  void distributed_forces(std::int64_t step, double h, bool count_work);
   double distributed_vector_entry(int i);
   void build_distributed(int dimension);
   void fail_one(const std::string& text) const;
@@ -199,6 +213,11 @@ private:
   int last_fragments_ = 1;
   double gravity_[3] = {0, 0, 0};
   double dt_stable_ = 0;
+  // FE steps per host step: from the next host step on (set where the stable step is estimated),
+  // and in the host step under way (fixed by begin_step: a change within a step waits for the
+  // next). step_: the last step seen (a host step's substeps belong to step_ + 1).
+  int substeps_ = 1, step_substeps_ = 1;
+  std::int64_t step_ = 0;
   int ncontacts_ = 0;
   bool velocities_applied_ = false, restarted_ = false;
   bool warned_slots_ = false, warned_unresolved_ = false, warned_dt_after_erosion_ = false;

@@ -361,6 +361,25 @@ void parse_dt_check(SpecReader& r, BodySpec& s)
   s.dt_check_error = r.either("error", "warn");
 }
 
+// substeps auto|off|N (1 <= N <= kMaxSubsteps).
+void parse_substeps(SpecReader& r, BodySpec& s)
+{
+  const std::string expected = "auto, off or a count 1 .. " + std::to_string(kMaxSubsteps);
+  r.need(1, expected);
+  const std::string& w = r.word(1);
+  if (w == "auto" || w == "off") {
+    s.substeps = w == "auto" ? kSubstepsAuto : kSubstepsOff;
+  } else {
+    char* end = nullptr;
+    const long n = std::strtol(w.c_str(), &end, 10);
+    if (end == w.c_str() || *end != '\0' || n < 1 || n > kMaxSubsteps)
+      fail("keyword 'substeps' expects " + expected + ", got '" + w + "'");
+    s.substeps = static_cast<int>(n);
+  }
+  s.have_substeps = true;
+  r.take(2);
+}
+
 void parse_gravity(SpecReader& r, BodySpec& s)
 {
   s.apply_gravity = r.either("yes", "no"); // anything else is an error, not "no"
@@ -436,6 +455,7 @@ const std::vector<Keyword> kKeywords = {
     {"compliance", parse_compliance},
     {"buffer", parse_buffer},
     {"dt_check", parse_dt_check},
+    {"substeps", parse_substeps},
     {"gravity", parse_gravity},
     {"energy_file", parse_energy_file},
     {"contact_bodies", parse_contact_bodies},
@@ -501,6 +521,9 @@ void check_rigid(BodySpec& s)
     fail("'fixed', 'velocity' and 'prescribed_velocity' apply to deformable bodies; a rigid "
          "body moves by 'motion'");
   if (!s.have_density) s.material.rho = 1.0; // only used for the (unused) mass of a rigid body
+  if (s.have_substeps)
+    fail("keyword 'substeps' applies to deformable bodies; a rigid body moves by 'motion' and has "
+         "no FE step");
   if (s.material.model != MaterialModel::Elastic || s.fracture_every > 0)
     fail("keywords 'material' and 'fracture' apply to deformable bodies; a rigid body neither "
          "deforms nor breaks");

@@ -47,6 +47,11 @@ struct NodeVelocitySpec {
 };
 
 constexpr int kMaxHistorySlots = 64;
+// substeps auto|N|off (BodySpec::substeps): the values auto and off, and the largest count
+// (given, or chosen by auto) of FE steps per host step.
+constexpr int kSubstepsAuto = 0;
+constexpr int kSubstepsOff = -1;
+constexpr int kMaxSubsteps = 100;
 
 // Every setting of `fix ID group fem/body file MESH keyword value ...` (docs/fix_fem_body.md).
 // Fields marked "-1: default" are resolved by check_body_spec.
@@ -79,6 +84,10 @@ struct BodySpec {
   double contact_penalty = 0.1;
   // ---- run ----
   bool dt_check_error = true; // dt_check error|warn
+  // substeps auto|N|off: FE steps per host step (kSubstepsAuto: as many as the stable step asks
+  // for; N > 0: fixed; kSubstepsOff: one, the stable step checked as dt_check says).
+  int substeps = kSubstepsAuto;
+  bool have_substeps = false; // substeps given
   bool apply_gravity = true;
   std::string energy_file;
   int energy_every = 0;

@@ -245,6 +245,23 @@ void Body::half_kick(double dt)
   }
 }
 
+void Body::kick_contact_difference(double tau)
+{
+  double work = 0;
+  for (int n = 0; n < num_nodes(); ++n) {
+    if (bc_[n] != NodeBc::Free && bc_[n] != NodeBc::Partial) continue;
+    for (int d = 0; d < 3; ++d) {
+      if (bc_[n] == NodeBc::Partial && (held_[n] >> d & 1)) continue;
+      const int k = 3 * n + d;
+      const double impulse = tau * (f_contact_prev_[k] - f_contact_[k]);
+      const double v0 = v_[k];
+      v_[k] += impulse * inv_mass_[n];
+      if (counted(n)) work += 0.5 * impulse * (v0 + v_[k]);
+    }
+  }
+  contact_work_ += work;
+}
+
 void Body::begin_forces()
 {
   std::fill(f_.begin(), f_.end(), 0.0);

@@ -76,6 +76,16 @@ public:
   void begin_forces();
   // Zeroes the internal forces only (to take them again after an erosion within the step).
   void clear_internal_forces() { std::fill(f_.begin(), f_.end(), 0.0); }
+  // A sub-cycled FE step between two contact evaluations of the host (BodyDriver): the contact
+  // forces of the last evaluation act again, and finish_forces counts their work over the substep.
+  void hold_contact_forces() { f_contact_ = f_contact_prev_; }
+  // After the force evaluation that closes a sub-cycled host step dt = n h (finish_forces keeps
+  // the contact forces C of this evaluation and, in contact_forces(), those held before, C0):
+  // the kick tau (C - C0) with tau = (dt - h) / 2 that gives the body the velocity-Verlet
+  // impulse dt (C0 + C) / 2 of the host step (the held force gave it (dt - h / 2) C0 + h C / 2),
+  // as its contact partners receive it. Its work (the exact kinetic energy it adds) is contact
+  // work. Held components (fixed, prescribed) are not kicked.
+  void kick_contact_difference(double tau);
   // Internal forces of this rank's elements into forces(); returns their strain energy.
   // An inverted element (det F <= 0) sets *first_inverted (if still < 0). With bulk viscosity the
   // viscous forces of the current (mid-step) velocities are added; their work is counted once per
