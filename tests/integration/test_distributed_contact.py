@@ -1,0 +1,83 @@
+"""Particles hit a distributed body (issue #13 item 2): `parallel distributed` at np 2, 3, 4
+against the replicated body at np 1.
+
+Scene (inputs/in.distributed_contact): six steel spheres (d 10 mm, particle modulus 1e5 Pa) shot
+obliquely (0.3-0.5 m/s down, 1.5-3 m/s along) onto the top of a free, soft corotational block
+(0.2 x 0.1 x 0.05 m, 12 x 6 x 3 cells of 6 tet4, E 1e8 Pa) centred on the host's rank boundary
+x = 0.5; no gravity, no walls. The spheres stay in contact ~10 ms while they slide 10-30 mm
+across the top: over element boundaries, the METIS parts' boundaries and (np 2, 4) the host's
+rank boundary, so particles change host rank and facets change part during contact. Asserted:
+
+* every thermo column (particle translational and rotational kinetic energy, body energy, kinetic
+  and strain energy, contact work, particle momentum, positions of four spheres) of every np
+  within 1e-9 of the column's scale of the replicated run (the body's kinetic and strain energy:
+  of the body's energy; the strain energy is a small part of it, and the replicated body at np 2
+  already differs from np 1 by 1.1e-9 of the strain column's own scale, 9.7e-12 of the body's
+  energy), and the contact count equal at every thermo step (the facets, their order and the
+  history keys of the distributed surface are the replicated body's, so only the summation order
+  of nodal forces differs);
+* total momentum (particles + body) conserved to round-off: its largest change over the run
+  within 1e-10 of the largest change of the particles' momentum (the impulse the body exchanged);
+* the spheres touched the body (contacts at the peak >= 4) and were slowed by it.
+"""
+import os
+import tempfile
+
+import harness as h
+
+args = h.parse_args()
+STEPS, THERMO = 2400, 100
+
+
+def scene(np_, parallel):
+    wd = tempfile.mkdtemp(prefix=f"distributed_contact_{parallel}_{np_}_")
+    h.copy_inputs(["in.distributed_contact"], wd)
+    h.make_box_mesh(os.path.join(wd, "block.msh"), (12, 6, 3), (0.2, 0.1, 0.05),
+                    origin=(0.4, -0.05, -0.05))
+    text = h.run(args.exe, "in.distributed_contact", np_=np_, workdir=wd,
+                 variables=dict(parallel=parallel, steps=STEPS, thermo=THERMO))
+    runs = h.thermo_blocks(text)
+    header, _ = runs[-1]
+    return text, {n: h.column(runs, n) for n in header if n != "Step"}
+
+
+def worst_scaled(a, b):
+    """Largest difference of two runs' columns, each scaled by its largest value; the body's
+    kinetic and strain energies by the body's energy (the strain energy is a small part of it and
+    already differs by 1.1e-9 of its own scale between np 1 and np 2 replicated)."""
+    worst, where = 0.0, ""
+    for name in a:
+        column = "body" if name in ("body[1]", "body[2]") else name
+        scale = max(max(abs(x) for x in a[column]), 1e-300)
+        for x, y in zip(a[name], b[name]):
+            if abs(x - y) / scale > worst:
+                worst, where = abs(x - y) / scale, name
+    return worst, where
+
+
+def momentum_balance(cols):
+    worst = 0.0
+    for d in "xyz":
+        q, p = cols[f"q{d}"], cols[f"p{d}"]
+        impulse = max(abs(x - q[0]) for x in q)
+        worst = max(worst, max(abs(x - p[0]) for x in p) / impulse)
+    return worst
+
+
+_, ref = scene(1, "replicated")
+h.check(max(ref["body[7]"]) >= 4, f"the spheres touched the body ({max(ref['body[7]']):.0f} "
+                                    f"contacts at the peak)")
+h.check(ref["KinEng"][-1] < 0.9 * ref["KinEng"][0],
+        f"the contacts slowed the spheres (KE {ref['KinEng'][0]:.4g} -> {ref['KinEng'][-1]:.4g} J)")
+w = momentum_balance(ref)
+h.check(w < 1e-10, f"np 1 replicated: total momentum change {w:.1e} of the impulse < 1e-10")
+for np_ in (2, 3, 4):
+    text, got = scene(np_, "distributed")
+    h.check(f"distributed over {np_} ranks" in text, f"np {np_}: the body is distributed")
+    h.check(got["body[7]"] == ref["body[7]"],
+            f"np {np_}: contact count equal at every thermo step (peak {max(got['body[7]']):.0f})")
+    w, where = worst_scaled(ref, got)
+    h.check(w < 1e-9, f"np {np_} distributed vs np 1 replicated: thermo within {w:.1e} of the "
+                      f"column scale (worst: {where}) < 1e-9")
+    w = momentum_balance(got)
+    h.check(w < 1e-10, f"np {np_}: total momentum change {w:.1e} of the impulse < 1e-10")
