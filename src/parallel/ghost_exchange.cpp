@@ -1,6 +1,8 @@
 // MPI transport of a distributed body's facet ghosts (see ghost_exchange.h).
 #include "ghost_exchange.h"
 
+#include <cstddef>
+
 namespace fracdem
 {
 
@@ -9,11 +11,11 @@ void sparse_exchange(MPI_Comm comm, int tag, const std::vector<int>& to,
                      std::vector<std::vector<double>>& in)
 {
   std::vector<MPI_Request> requests(to.size());
-  for (size_t k = 0; k < to.size(); ++k)
+  for (std::size_t k = 0; k < to.size(); ++k)
     MPI_Isend(out[k].data(), static_cast<int>(out[k].size()), MPI_DOUBLE, to[k], tag, comm,
               &requests[k]);
   in.resize(from.size());
-  for (size_t k = 0; k < from.size(); ++k) {
+  for (std::size_t k = 0; k < from.size(); ++k) {
     MPI_Status status;
     MPI_Probe(from[k], tag, comm, &status);
     int count = 0;

@@ -18,12 +18,21 @@ rank boundary, so particles change host rank and facets change part during conta
   of nodal forces differs);
 * total momentum (particles + body) conserved to round-off: its largest change over the run
   within 1e-10 of the largest change of the particles' momentum (the impulse the body exchanged);
-* the spheres touched the body (contacts at the peak >= 4) and were slowed by it.
+* the spheres touched the body (contacts at the peak >= 4) and were slowed by it;
+* with the PMPI counter at 4 ranks (difference of a 400- and a 1200-step run, thermo only at the
+  ends): the contact's only collective is the boxes' MPI_Allgather, once per host
+  re-neighbouring ("Neighbor list builds"), and the body's code issues no other collective between
+  thermo steps; the facet ghosts do travel (point-to-point messages of the contact exchange).
 """
 import os
+import re
+import sys
 import tempfile
 
 import harness as h
+
+sys.path.insert(0, os.path.join(h.ROOT, "tests", "support"))
+import mpicount  # noqa: E402
 
 args = h.parse_args()
 STEPS, THERMO = 2400, 100
@@ -81,3 +90,44 @@ for np_ in (2, 3, 4):
                       f"column scale (worst: {where}) < 1e-9")
     w = momentum_balance(got)
     h.check(w < 1e-10, f"np {np_}: total momentum change {w:.1e} of the impulse < 1e-10")
+
+# Counts at 4 ranks.
+LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")
+h.check(os.path.isfile(LIB), f"PMPI counter {LIB} built")
+wd = tempfile.mkdtemp(prefix="distributed_contact_counts_")
+h.copy_inputs(["in.distributed_contact"], wd)
+h.make_box_mesh(os.path.join(wd, "block.msh"), (12, 6, 3), (0.2, 0.1, 0.05),
+                origin=(0.4, -0.05, -0.05))
+
+
+def counted(steps):
+    variables = dict(parallel="distributed", steps=steps, thermo=steps)
+    return mpicount.run(args.exe, "in.distributed_contact", 4, wd, LIB, f"c{steps}", variables)
+
+
+def builds(text):
+    return int(re.search(r"Neighbor list builds\s*=\s*(\d+)", text).group(1))
+
+
+short_text, short = counted(400)
+long_text, long_ = counted(1200)
+regroupings = builds(long_text) - builds(short_text)
+BODY_CODE = r"FixFemBody|BodyDriver|NodeExchange|add_mpi_services|all_gather|sparse_exchange"
+ghost_msgs = 0
+for d in mpicount.difference(long_, short):
+    gathers, other = 0, []
+    for (module, caller, func, cat), (count, nbytes) in d["sites"].items():
+        if cat == "send" and "sparse_exchange" in caller:
+            ghost_msgs += count
+        if cat != "coll" or not count or not re.search(BODY_CODE, caller):
+            continue
+        if "all_gather" in caller:
+            gathers += count
+        else:
+            other.append(f"{count} x {func} in {caller}")
+    h.check(not other, f"rank {d['rank']}: no other collective of the body's code between thermo "
+                       f"steps ({'; '.join(other) or 'none'})")
+    h.check(gathers == regroupings and regroupings > 0,
+            f"rank {d['rank']}: {gathers} box all-gathers in 800 steps = {regroupings} host "
+            f"re-neighbourings")
+h.check(ghost_msgs > 0, f"the facet ghosts travel: {ghost_msgs} contact messages in 800 steps")
