@@ -1,10 +1,10 @@
 """Particles hit a distributed body (issue #13 item 2): `parallel distributed` at np 2, 3, 4
 against the replicated body at np 1.
 
-Scene (inputs/in.distributed_contact): six steel spheres (d 10 mm, particle modulus 1e5 Pa) shot
-obliquely (0.3-0.5 m/s down, 1.5-3 m/s along) onto the top of a free, soft corotational block
-(0.2 x 0.1 x 0.05 m, 12 x 6 x 3 cells of 6 tet4, E 1e8 Pa) centred on the host's rank boundary
-x = 0.5; no gravity, no walls. The spheres stay in contact ~10 ms while they slide 10-30 mm
+Scene (inputs/in.distributed_contact): six steel spheres (d 10 mm, particle modulus 1e5 Pa, pair
+gran between them) shot obliquely (0.3-0.5 m/s down, 1.5-3 m/s along) onto the top of a free,
+soft corotational block (0.2 x 0.1 x 0.05 m, 12 x 6 x 3 cells of 6 tet4, E 1e8 Pa) centred on
+the host's rank boundary x = 0.5; no gravity, no walls. The spheres stay in contact ~10 ms while they slide 10-30 mm
 across the top: over element boundaries, the METIS parts' boundaries and (np 2, 4) the host's
 rank boundary, so particles change host rank and facets change part during contact. Asserted:
 
@@ -16,6 +16,8 @@ rank boundary, so particles change host rank and facets change part during conta
   energy), and the contact count equal at every thermo step (the facets, their order and the
   history keys of the distributed surface are the replicated body's, so only the summation order
   of nodal forces differs);
+* the same at np 3 with the particles owned by `fix balance/graph` (graph partition, not the
+  host's slabs: the particle boxes come from each rank's particles);
 * total momentum (particles + body) conserved to round-off: its largest change over the run
   within 1e-10 of the largest change of the particles' momentum (the impulse the body exchanged);
 * the spheres touched the body (contacts at the peak >= 4) and were slowed by it;
@@ -38,13 +40,13 @@ args = h.parse_args()
 STEPS, THERMO = 2400, 100
 
 
-def scene(np_, parallel):
+def scene(np_, parallel, balance=0):
     wd = tempfile.mkdtemp(prefix=f"distributed_contact_{parallel}_{np_}_")
     h.copy_inputs(["in.distributed_contact"], wd)
     h.make_box_mesh(os.path.join(wd, "block.msh"), (12, 6, 3), (0.2, 0.1, 0.05),
                     origin=(0.4, -0.05, -0.05))
     text = h.run(args.exe, "in.distributed_contact", np_=np_, workdir=wd,
-                 variables=dict(parallel=parallel, steps=STEPS, thermo=THERMO))
+                 variables=dict(parallel=parallel, steps=STEPS, thermo=THERMO, balance=balance))
     runs = h.thermo_blocks(text)
     header, _ = runs[-1]
     return text, {n: h.column(runs, n) for n in header if n != "Step"}
@@ -80,9 +82,12 @@ h.check(ref["KinEng"][-1] < 0.9 * ref["KinEng"][0],
         f"the contacts slowed the spheres (KE {ref['KinEng'][0]:.4g} -> {ref['KinEng'][-1]:.4g} J)")
 w = momentum_balance(ref)
 h.check(w < 1e-10, f"np 1 replicated: total momentum change {w:.1e} of the impulse < 1e-10")
-for np_ in (2, 3, 4):
-    text, got = scene(np_, "distributed")
+for np_, balance in ((2, 0), (3, 0), (4, 0), (3, 1)):
+    text, got = scene(np_, "distributed", balance)
     h.check(f"distributed over {np_} ranks" in text, f"np {np_}: the body is distributed")
+    if balance:
+        h.check("repartitioned" in text, f"np {np_}: fix balance/graph owns the particles")
+        np_ = f"{np_} (balance/graph)"
     h.check(got["body[7]"] == ref["body[7]"],
             f"np {np_}: contact count equal at every thermo step (peak {max(got['body[7]']):.0f})")
     w, where = worst_scaled(ref, got)
@@ -101,7 +106,7 @@ h.make_box_mesh(os.path.join(wd, "block.msh"), (12, 6, 3), (0.2, 0.1, 0.05),
 
 
 def counted(steps):
-    variables = dict(parallel="distributed", steps=steps, thermo=steps)
+    variables = dict(parallel="distributed", steps=steps, thermo=steps, balance=0)
     return mpicount.run(args.exe, "in.distributed_contact", 4, wd, LIB, f"c{steps}", variables)
 
 
