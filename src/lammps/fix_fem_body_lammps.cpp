@@ -526,6 +526,7 @@ void FixFemBodyLammps::read_gravity()
 void FixFemBodyLammps::setup(int /*vflag*/)
 {
   driver_.start_run();
+  driver_.particles_regrouped();
   read_gravity();
   check_in_box("at the start of the run"); // restart, change_box and earlier runs move it
   if (law_.on) {
@@ -548,6 +549,7 @@ void FixFemBodyLammps::setup(int /*vflag*/)
 // dropped then: the search is rebuilt and the body checked.
 void FixFemBodyLammps::pre_neighbor()
 {
+  driver_.particles_regrouped(); // a distributed body exchanges its particle boxes
   driver_.contact().invalidate_search();
   check_in_box(nullptr);
 }
@@ -602,7 +604,9 @@ fracdem::ParticleArrays FixFemBodyLammps::particle_arrays() const
 void FixFemBodyLammps::compute_forces()
 {
   const fracdem::ParticleArrays particles = law_.on ? particle_arrays() : fracdem::ParticleArrays{};
-  driver_.compute_forces(law_.on ? &particles : nullptr, update->ntimestep, update->dt,
+  // A distributed body in a run without particles exchanges nothing for contact.
+  const bool none = !law_.on || (driver_.distributed() && atom->natoms == 0);
+  driver_.compute_forces(none ? nullptr : &particles, update->ntimestep, update->dt,
                          update->setupflag == 0);
 }
 

@@ -274,23 +274,10 @@ void FixFemBody::reset_dt()
 
 /* ---------------------------------------------------------------------- */
 
-// A distributed body has no particle contact yet: a scene with particles is refused (natoms is
-// the global count, the same on every rank).
-void FixFemBody::check_distributed_scene()
-{
-  if (driver_.distributed() && atom->natoms > 0)
-    error->all(FLERR, (std::string(kStyle) + " " + id +
-                       ": keyword 'parallel distributed': the body has no contact with particles "
-                       "yet, and this run has " +
-                       std::to_string(static_cast<long long>(atom->natoms)) +
-                       " particles; use 'parallel replicated'")
-                          .c_str());
-}
-
 void FixFemBody::setup(int /*vflag*/)
 {
-  check_distributed_scene();
   driver_.start_run();
+  driver_.particles_regrouped();
   check_in_box("at the start of the run"); // restart, change_box and earlier runs move it
   driver_.contact().invalidate_search();
   compute_forces();
@@ -302,7 +289,7 @@ void FixFemBody::setup(int /*vflag*/)
 // and every kBoxCheckEvery steps (a scene without moving particles never re-neighbours).
 void FixFemBody::pre_neighbor()
 {
-  check_distributed_scene();
+  driver_.particles_regrouped(); // a distributed body exchanges its particle boxes
   driver_.contact().invalidate_search();
   check_in_box(nullptr);
 }
@@ -354,9 +341,11 @@ fracdem::ParticleArrays FixFemBody::particle_arrays() const
 
 void FixFemBody::compute_forces()
 {
+  // A distributed body in a run without particles exchanges nothing for contact.
   const fracdem::ParticleArrays particles = particle_arrays();
-  driver_.compute_forces(driver_.distributed() ? nullptr : &particles, update->ntimestep,
-                         update->dt, update->setupflag == 0);
+  const bool none = driver_.distributed() && atom->natoms == 0;
+  driver_.compute_forces(none ? nullptr : &particles, update->ntimestep, update->dt,
+                         update->setupflag == 0);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -83,7 +83,6 @@ private:
   void read_contact_properties();
   void find_contact_partners();
   void read_gravity();
-  void check_distributed_scene();
 
   // ---- per-step work: the core's fracdem::BodyDriver; this adapter moves data ----
   fracdem::ParticleArrays particle_arrays() const;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "ghost_exchange.h"
 #include "node_exchange.h"
 
 namespace fracdem
@@ -40,6 +41,13 @@ void add_mpi_services(BodyHost& host, MPI_Comm comm)
     MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), starts.data(),
                 MPI_DOUBLE, 0, comm);
     return all;
+  };
+  host.all_gather = [comm](const std::vector<double>& mine) { return all_gather(comm, mine); };
+  host.exchange = [comm](int round, const std::vector<int>& to,
+                         const std::vector<std::vector<double>>& out, const std::vector<int>& from,
+                         std::vector<std::vector<double>>& in) {
+    constexpr int kGhostTag = 7310; // fracdem facet ghosts (node exchange: 7301)
+    sparse_exchange(comm, kGhostTag + round, to, out, from, in);
   };
   host.shared_sum_for = [comm](const MeshPart& part) {
     auto exchange = std::make_shared<NodeExchange>(comm, part);

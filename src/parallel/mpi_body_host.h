@@ -9,7 +9,8 @@
 namespace fracdem
 {
 
-// Sets host.rank, nprocs, sum, max, min, max_int, gather and shared_sum_for over comm.
+// Sets host.rank, nprocs, sum, max, min, max_int, gather, all_gather, exchange and
+// shared_sum_for over comm.
 void add_mpi_services(BodyHost& host, MPI_Comm comm);
 
 } // namespace fracdem

@@ -16,8 +16,8 @@ twisting by initial velocities, corotational; no particles. Asserted:
   per (shared node, neighbouring part) pair and step, the number fix fem/body prints at set-up,
   in one message per neighbouring part; the project's code (FixFemBody, BodyDriver, NodeExchange)
   issues no collective between thermo steps;
-* refusals: `parallel distributed` with fracture, and with particles in the run, stop naming the
-  keyword.
+* refusals: `parallel distributed` with fracture stops naming the keyword (particle contact:
+  test_distributed_contact.py).
 """
 import glob
 import os
@@ -159,16 +159,13 @@ print(f"note: all collectives per rank and step (the host's neighbour checks inc
       f"{', '.join(f'{c:.2f}' for c in coll)}")
 shutil.rmtree(wd, ignore_errors=True)
 
-# Refusals: what a distributed body does not do yet stops the run naming the keyword.
+# Refusals: what a distributed body does not do yet stops the run naming the keyword (particle
+# contact it does: tests/integration/test_distributed_contact.py).
 BODY = ("fix body all fem/body file block.msh type 2 density 2400 youngs 3e10 poisson 0.2 "
         "parallel distributed")
 REFUSALS = {
     "fracture": ("", " material rankine strength 3e6 fracture_energy 100 fracture nodal",
                  "does not work with 'fracture'"),
-    "particles": ("pair_style gran model hertz tangential history\npair_coeff * *\n"
-                  "create_atoms 1 single 1.5 0.5 0.5 units box\n"
-                  "set atom 1 diameter 0.01 density 2500\n", "",
-                  "has no contact with particles yet"),
 }
 for name, (before, extra, expect) in REFUSALS.items():
     wd = tempfile.mkdtemp(prefix="distributed_refuse_")

@@ -163,8 +163,10 @@ void BodyDriver::build_distributed(int dimension)
     fail(prefix() + "keyword 'parallel distributed' is not available under this host; use "
                     "'parallel replicated'");
   distributed_ = true;
+  GlobalSurface surface;
   part_ = build_body_part(*spec_, dimension, host_.rank, host_.nprocs, body_, global_nodes_,
-                          global_elems_);
+                          global_elems_, &surface);
+  ghosts_.init(part_, std::move(surface));
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0; // (shared node, neighbouring part) pairs of all parts: the exchange's size
   for (const PartNeighbour& nb : part_.neighbours)
@@ -230,6 +232,7 @@ void BodyDriver::configure_contact(const ParticleFacetOptions& options,
                                    std::vector<ContactMaterial> mats)
 {
   contact_.configure(options);
+  if (distributed_) ghosts_.configure(options, mats);
   contact_.set_materials(std::move(mats));
 }
 
@@ -444,7 +447,7 @@ void BodyDriver::substep_forces(double dt, double h)
   const std::int64_t step = step_ + 1;
   body_.clear_internal_forces();
   body_.hold_contact_forces();
-  if (distributed_) return distributed_forces(step, h, true);
+  if (distributed_) return distributed_forces(nullptr, step, dt, true); // no particle loop
   int first_inverted = -1;
   double scalars[2] = {internal_forces(step, dt, first_inverted), 0.0};
   scalars[1] = first_inverted >= 0 ? first_inverted + 1.0 : 0.0;
@@ -492,12 +495,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   step_ = step;
   const double h = dt / step_substeps_; // the FE step whose forces these are
   body_.begin_forces();
-  if (distributed_) {
-    if (particles)
-      fail(prefix() + "keyword 'parallel distributed': the body has no contact with particles "
-                      "yet; use 'parallel replicated' for a body that particles hit");
-    return distributed_forces(step, h, count_work);
-  }
+  if (distributed_) return distributed_forces(particles, step, dt, count_work);
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
   // particles; one reduction makes every replica identical.
@@ -537,13 +535,17 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 }
 
 // parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
-// parts (one message each, no collective); a rank that finds an inverted element or a NaN stops
-// the run by itself (no per-step reduction to find out). h: the FE step.
-void BodyDriver::distributed_forces(std::int64_t step, double h, bool count_work)
+// parts (one message each, no collective), and the contact of particles (facet ghosts by boxes,
+// body_ghost_contact.cpp, once per host step); a rank that finds an inverted element or a NaN
+// stops the run by itself (no per-step reduction to find out). dt: the host step.
+void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
+                                    bool count_work)
 {
+  const double h = dt / step_substeps_; // the FE step whose forces these are
   int first_inverted = -1;
   const double energy = body_.add_internal_forces(&first_inverted);
   shared_sum_(body_.forces_data(), 3);
+  if (particles) distributed_contact(*particles, step, dt);
   if (first_inverted >= 0)
     fail_one(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
                     "; the time step is too large or the load too severe for this mesh",
@@ -1038,6 +1040,12 @@ double BodyDriver::distributed_vector_entry(int i)
     return dt_stable_; // already the smallest of the parts'
   } else if (i == vector_size() - kVecTailSize + kVecSubsteps) {
     return step_substeps_; // the same on every part
+  } else if (i == kVecContacts) {
+    value = ncontacts_; // each particle's contacts are counted on its rank
+  } else if (i == kVecSearchRebuilds) {
+    value = ghosts_.contact().search_rebuilds();
+    host_.max(&value, 1);
+    return value;
   } else if (!body_vector_entry(body_, i, ngroups, value)) {
     value = i - (kVecSize + 3 * ngroups) == kVecShieldWork ? body_.shield_work() : 0.0;
   }

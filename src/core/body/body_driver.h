@@ -13,6 +13,7 @@
 #include "fem/body.h"
 #include "body/body_partition.h"
 #include "body/body_spec.h"
+#include "body/facet_ghosts.h"
 #include "fracture/nodal_fracture.h"
 
 namespace fracdem
@@ -39,6 +40,16 @@ struct BodyHost {
   // Every rank's values, in rank order, on rank 0 (empty on the others): the restart record of a
   // distributed body. Entered by every rank. Unset: one rank (its own values).
   std::function<std::vector<double>(const std::vector<double>&)> gather;
+  // Every rank's values (the same count on each), in rank order, on every rank: the particle and
+  // surface boxes of a distributed body, exchanged when the host re-neighbours.
+  std::function<std::vector<double>(const std::vector<double>&)> all_gather;
+  // One message to each rank of `to` (out[k]) and one from each rank of `from` (in[k], any
+  // length): the facet ghosts of a distributed body (round 0) and the forces back (round 1). Both
+  // sides list each other; no collective.
+  std::function<void(int round, const std::vector<int>& to,
+                     const std::vector<std::vector<double>>& out, const std::vector<int>& from,
+                     std::vector<std::vector<double>>& in)>
+      exchange;
 };
 // A host of one rank (reductions do nothing; print, warning and errors go to the given sinks;
 // unit tests collect them). error_all throws std::runtime_error(text) when none is given.
@@ -100,6 +111,9 @@ public:
   // The body's first n - 1 FE steps of h = dt / n (n = substeps()), with the contact forces of the
   // host's last evaluation held, then the half kick and drift of the last one.
   void begin_step(double dt);
+  // The host re-neighboured (particles may have changed rank): a distributed body exchanges its
+  // ranks' particle and surface boxes at the next force evaluation (every rank, same step).
+  void particles_regrouped() { boxes_due_ = true; }
   // Internal forces (erosion, inverted elements), body-body and particle contact (particles:
   // nullptr without particle contact), the reductions, the checks; count_work: not in set-up.
   void compute_forces(const ParticleArrays* particles, std::int64_t step, double dt,
@@ -184,7 +198,9 @@ private:
   int body_contacts(double dt);
   void write_energy_row(std::int64_t step);
   void write_distributed_energy_row(std::int64_t step);
-  void distributed_forces(std::int64_t step, double h, bool count_work);
+  void distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
+                          bool count_work);
+  void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
   double distributed_vector_entry(int i);
   void build_distributed(int dimension);
   void fail_one(const std::string& text) const;
@@ -204,6 +220,10 @@ private:
   std::function<void(double*, int)> shared_sum_;
   int global_nodes_ = 0, global_elems_ = 0;
   long long interface_pairs_ = 0;
+  // Particle contact of a distributed body (body_ghost_contact.cpp): facet ghosts by boxes.
+  FacetGhosts ghosts_;
+  bool boxes_due_ = true;
+  std::vector<std::vector<double>> ghost_out_, ghost_in_, ghost_back_, ghost_returned_;
   ParticleFacetContact contact_;
   ContactSurface surface_;
   SurfaceContact self_contact_;

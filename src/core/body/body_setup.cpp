@@ -76,12 +76,14 @@ void build_body(const BodySpec& spec, int dimension, Body& body)
 }
 
 MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
-                         int& global_nodes, int& global_elems)
+                         int& global_nodes, int& global_elems, GlobalSurface* surface)
 {
   const Mesh mesh = placed_mesh(spec, dimension);
   global_nodes = mesh.num_nodes();
   global_elems = mesh.num_elems();
-  MeshPart part = extract_part(mesh, partition_elements(mesh, nprocs), rank);
+  const std::vector<int> elem_part = partition_elements(mesh, nprocs);
+  MeshPart part = extract_part(mesh, elem_part, rank);
+  if (surface) *surface = global_surface(mesh, elem_part);
   build_from_mesh(spec, part.mesh, body);
   std::vector<std::uint8_t> owned(part.num_nodes());
   for (int n = 0; n < part.num_nodes(); ++n)

@@ -7,6 +7,7 @@
 #include "fem/body.h"
 #include "body/body_partition.h"
 #include "body/body_spec.h"
+#include "body/facet_ghosts.h"
 
 namespace fracdem
 {
@@ -19,8 +20,9 @@ void build_body(const BodySpec& spec, int dimension, Body& body);
 // (partition_elements) and builds its own part's body, which counts only the nodes it owns. The
 // part's masses at shared nodes are its own elements' share until the host sums them. Returns
 // the part; global_nodes / global_elems: the whole body's counts.
+// surface (optional): the whole body's surface and its facets' parts (particle contact).
 MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
-                         int& global_nodes, int& global_elems);
+                         int& global_nodes, int& global_elems, GlobalSurface* surface = nullptr);
 // A node set of the built body: "all" or a physical group of the mesh; keyword: the keyword that
 // names it (error messages). Throws SpecError.
 std::vector<int> body_node_set(const Body& body, const BodySpec& spec, const std::string& name,

@@ -83,6 +83,22 @@ void ParticleFacetContact::rebuild_surface(const Mesh& mesh)
   indentation_disp_.assign(nnodes_, 0.0);
   reference_normals(mesh);
   surface_pieces();
+  key_nodes_.clear();
+  search_stale_ = true;
+}
+
+void ParticleFacetContact::set_surface(std::vector<Facet> facets, int nnodes,
+                                       std::vector<double> ref_normals, std::vector<int> pieces,
+                                       std::vector<double> node_area, std::vector<int> key_nodes)
+{
+  nnodes_ = nnodes;
+  facets_ = std::move(facets);
+  topology_.build(facets_, nnodes_);
+  facet_ref_normal_ = std::move(ref_normals);
+  facet_piece_ = std::move(pieces);
+  node_area_ = std::move(node_area);
+  key_nodes_ = std::move(key_nodes);
+  indentation_disp_.assign(nnodes_, 0.0);
   search_stale_ = true;
 }
 
@@ -430,7 +446,11 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
     double scratch[3] = {0, 0, 0};
     double* shear = scratch;
     if (opt_.tangential_history && hist) {
-      double* slot = history_slot(hist, p.slots, feature_key(lead), true, &res.history_exhausted);
+      FacetHit keyed = lead;
+      if (!key_nodes_.empty())
+        for (int j = 0; j < lead.nn; ++j)
+          keyed.nodes[j] = key_nodes_[lead.nodes[j]];
+      double* slot = history_slot(hist, p.slots, feature_key(keyed), true, &res.history_exhausted);
       if (slot) {
         shear = slot + 2;
         touched_[(slot - hist) / kHistorySlotDoubles] = 1;

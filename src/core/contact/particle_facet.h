@@ -78,7 +78,20 @@ public:
   // Re-derives the boundary facets, their adjacency and the nodal surface areas from the mesh
   // (after any topology change); the next evaluation rebuilds the search.
   void rebuild_surface(const Mesh& mesh);
+  // A surface given as facets (nodes 0 .. nnodes-1) with what rebuild_surface derives from a
+  // mesh: outward reference normals (3 per facet), piece labels (per facet; equal labels: one
+  // connected piece) and reference surface areas (per node). key_nodes: the node numbers that
+  // history keys use (per node; a part of a larger surface keys its contacts by the whole
+  // surface's numbers, so a particle's history stays valid when the part changes).
+  void set_surface(std::vector<Facet> facets, int nnodes, std::vector<double> ref_normals,
+                   std::vector<int> pieces, std::vector<double> node_area,
+                   std::vector<int> key_nodes);
   void invalidate_search() { search_stale_ = true; }
+  const ParticleFacetOptions& options() const { return opt_; }
+  // What rebuild_surface derived (set_surface's inputs for parts of this surface).
+  const std::vector<double>& reference_normals() const { return facet_ref_normal_; }
+  const std::vector<int>& pieces() const { return facet_piece_; }
+  const std::vector<double>& node_areas() const { return node_area_; }
 
   // Contact forces of the particles with the surface at node positions x and velocities v:
   // added to the particles' f / torque and, as reactions, to f_nodes (3 per node). X: reference
@@ -136,6 +149,7 @@ private:
   std::vector<double> normals_, overlaps_, region_normals_;
   std::vector<double> facet_ref_normal_; // 3 per facet: outward normal in the reference state
   std::vector<int> facet_piece_;         // per facet: connected component of the surface
+  std::vector<int> key_nodes_;           // per node: its number in history keys (empty: itself)
   std::vector<int> hit_pieces_;          // per hit: its facet's piece (scratch)
   std::vector<char> touched_;
   std::vector<int> checks_, contacts_;

@@ -1,0 +1,55 @@
+// BodyDriver's particle contact with a distributed body: boxes when the host re-neighbours, facet
+// ghosts to the ranks whose particles can reach them and the forces back, each step.
+#include <cinttypes>
+#include <cstdio>
+
+#include "body/body_driver.h"
+
+namespace fracdem
+{
+
+// Particles keep the host's decomposition, the body its own (paper section 3). After the host
+// re-neighbours every rank gathers every rank's particle box and surface box (12 doubles each,
+// the only collective); each step every part sends the facets within reach of each partner's
+// particles (one message per partner), the partner evaluates its particles against them and its
+// own facets and returns the nodes' forces (one message back), and the shared-node sum gives every
+// sharer the total once.
+void BodyDriver::distributed_contact(const ParticleArrays& p, std::int64_t step, double dt)
+{
+  const double* x = body_.positions().data();
+  const double* v = body_.velocities().data();
+  if (boxes_due_) {
+    ghosts_.set_boxes(host_.all_gather(ghosts_.local_boxes(p, x)));
+    boxes_due_ = false;
+  }
+  std::string why = ghosts_.check_particles(p);
+  if (why.empty()) why = ghosts_.outgoing(x, v, ghost_out_);
+  if (!why.empty()) fail_one(prefix() + why);
+  host_.exchange(0, ghosts_.send_to(), ghost_out_, ghosts_.recv_from(), ghost_in_);
+  const ParticleFacetResult res =
+      ghosts_.evaluate(p, ghost_in_, x, v, dt, body_.contact_forces(), ghost_back_);
+  host_.exchange(1, ghosts_.recv_from(), ghost_back_, ghosts_.send_to(), ghost_returned_);
+  ghosts_.add_returned(ghost_returned_, body_.contact_forces());
+  shared_sum_(body_.contact_forces(), 3);
+  ncontacts_ = res.contacts;
+  // Warnings come from the rank that sees the case (no collective per step).
+  if (res.history_exhausted && !warned_slots_) {
+    host_.warning("fix fem/body: a particle has more simultaneous facet contacts than "
+                  "'history_slots'; extra contacts run without tangential history");
+    warned_slots_ = true;
+  }
+  if (res.unresolved_speed > 0 && !warned_unresolved_) {
+    warned_unresolved_ = true;
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "fix fem/body %s: at step %" PRId64 " a particle approaches the surface at %g "
+                  "m/s, more than %g %% of its Hertz penetration per time step; the contact is "
+                  "not resolved in time and may gain or lose energy: timestep %g or smaller "
+                  "resolves it",
+                  id_.c_str(), step, res.unresolved_speed, 100 * kMaxApproachPerStep,
+                  res.resolving_dt);
+    host_.warning(text);
+  }
+}
+
+} // namespace fracdem
