@@ -74,6 +74,19 @@ def column(runs, name, run_index=-1):
     return [r[k] for r in rows]
 
 
+def worst_scaled(a, b, scale_of=lambda name: name):
+    """Largest difference of two runs' columns (dicts name -> values), each scaled by the largest
+    magnitude of a column of `a` (its own, or the one scale_of(name) names); returns
+    (difference, column name)."""
+    worst, where = 0.0, ""
+    for name in a:
+        scale = max(max(abs(x) for x in a[scale_of(name)]), 1e-300)
+        for x, y in zip(a[name], b[name]):
+            if abs(x - y) / scale > worst:
+                worst, where = abs(x - y) / scale, name
+    return worst, where
+
+
 def rel_diff(a, b):
     return abs(a - b) / max(abs(a), abs(b), 1e-300)
 

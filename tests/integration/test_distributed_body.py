@@ -48,18 +48,6 @@ def thermo(text):
     return h.thermo_blocks(text)
 
 
-def worst_scaled(a, b):
-    """Largest difference of two column dicts, each column scaled by its largest value."""
-    worst, where = 0.0, ""
-    for name in a:
-        scale = max(max(abs(x) for x in a[name]), 1e-300)
-        for x, y in zip(a[name], b[name]):
-            d = abs(x - y) / scale
-            if d > worst:
-                worst, where = d, name
-    return worst, where
-
-
 def columns(runs):
     header, _ = runs[-1]
     return {n: h.column(runs, n) for n in header if n != "Step"}
@@ -73,18 +61,18 @@ for np_ in (2, 3, 4):
     wd, text = scene(np_, "distributed")
     h.check(f"distributed over {np_} ranks" in text, f"np {np_}: the body is distributed")
     got = columns(thermo(text))
-    w, where = worst_scaled(ref, got)
+    w, where = h.worst_scaled(ref, got)
     h.check(w < 1e-9, f"np {np_} distributed vs np 1 replicated: thermo within {w:.1e} of the "
                       f"column scale (worst: {where}) < 1e-9")
     energy = h.read_csv(os.path.join(wd, "energy.csv"))
-    w, where = worst_scaled(ref_energy, energy)
+    w, where = h.worst_scaled(ref_energy, energy)
     h.check(w < 1e-9, f"np {np_}: energy file within {w:.1e} of the column scale ({where})")
     e_ref = [k + s for k, s in zip(ref_energy["kinetic"], ref_energy["strain"])]
     e_got = [k + s for k, s in zip(energy["kinetic"], energy["strain"])]
     worst_e = max(abs(x - y) / abs(x) for x, y in zip(e_ref, e_got))
     h.check(worst_e < 1e-10, f"np {np_}: body energy within {worst_e:.1e} relative < 1e-10")
     if np_ == 2:
-        w, where = worst_scaled(columns(thermo(rep2_text)), got)
+        w, where = h.worst_scaled(columns(thermo(rep2_text)), got)
         h.check(w < 1e-9, f"np 2 distributed vs np 2 replicated: {w:.1e} ({where})")
 
 

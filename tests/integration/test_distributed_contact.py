@@ -53,17 +53,10 @@ def scene(np_, parallel, balance=0):
 
 
 def worst_scaled(a, b):
-    """Largest difference of two runs' columns, each scaled by its largest value; the body's
-    kinetic and strain energies by the body's energy (the strain energy is a small part of it and
-    already differs by 1.1e-9 of its own scale between np 1 and np 2 replicated)."""
-    worst, where = 0.0, ""
-    for name in a:
-        column = "body" if name in ("body[1]", "body[2]") else name
-        scale = max(max(abs(x) for x in a[column]), 1e-300)
-        for x, y in zip(a[name], b[name]):
-            if abs(x - y) / scale > worst:
-                worst, where = abs(x - y) / scale, name
-    return worst, where
+    """h.worst_scaled, the body's kinetic and strain energies scaled by the body's energy (the
+    strain energy is a small part of it and already differs by 1.1e-9 of its own scale between
+    np 1 and np 2 replicated)."""
+    return h.worst_scaled(a, b, lambda name: "body" if name in ("body[1]", "body[2]") else name)
 
 
 def momentum_balance(cols):

@@ -43,18 +43,12 @@ def continued(wd, np_, parallel):
 
 
 def worst_scaled(ref, got):
-    """Largest difference of two thermo blocks' columns, each scaled by its largest value."""
+    """h.worst_scaled of two thermo blocks (header, rows), which must have the same shape."""
     (head, a), (head_b, b) = ref, got
     if head != head_b or len(a) != len(b):
         return float("inf"), f"shape {len(a)} vs {len(b)} rows"
-    worst, where = 0.0, ""
-    for j, name in enumerate(head):
-        scale = max(max(abs(r[j]) for r in a), 1e-300)
-        for ra, rb in zip(a, b):
-            d = abs(ra[j] - rb[j]) / scale
-            if d > worst:
-                worst, where = d, name
-    return worst, where
+    as_columns = lambda rows: {n: [r[j] for r in rows] for j, n in enumerate(head)}  # noqa: E731
+    return h.worst_scaled(as_columns(a), as_columns(b))
 
 
 def main():

@@ -37,12 +37,7 @@ for np_, parallel in ((1, "replicated"), (2, "distributed")):
 ref, got = runs[1], runs[2]
 h.check(max(ref["f_body[7]"]) >= 1, "the sphere touched the body")
 h.check(got["f_body[7]"] == ref["f_body[7]"], "contact count equal at every thermo step")
-worst, where = 0.0, ""
-for name in ref:
-    scale = max(max(abs(x) for x in ref[name]), 1e-300)
-    for x, y in zip(ref[name], got[name]):
-        if abs(x - y) / scale > worst:
-            worst, where = abs(x - y) / scale, name
+worst, where = h.worst_scaled(ref, got)
 h.check(worst < 1e-9, f"LAMMPS np 2 distributed vs np 1 replicated: thermo within {worst:.1e} "
                       f"of the column scale (worst: {where}) < 1e-9")
 for comp in ("v_px", "v_py", "v_pz"):

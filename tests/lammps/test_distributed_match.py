@@ -40,12 +40,7 @@ text = lmp.run("in.distributed_host", np_=3, workdir=wd,
                variables=dict(host="lammps", parallel="distributed"))
 h.check("distributed over 3 ranks" in text, "LAMMPS np 3: the body is distributed")
 got = columns(text)
-worst, where = 0.0, ""
-for name in ref:
-    scale = max(max(abs(x) for x in ref[name]), 1e-300)
-    for x, y in zip(ref[name], got[name]):
-        if abs(x - y) / scale > worst:
-            worst, where = abs(x - y) / scale, name
+worst, where = h.worst_scaled(ref, got)
 h.check(worst < 1e-9, f"LAMMPS np 3 distributed vs LIGGGHTS np 1 replicated: thermo within "
                       f"{worst:.1e} of the column scale (worst: column {where}) < 1e-9")
 energy = max(abs(x - y) / abs(x) for x, y in zip(ref[1], got[1]))  # column 1: f_body
