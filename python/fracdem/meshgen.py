@@ -36,6 +36,25 @@ def graded_axis(length_fine, h_fine, length_total, growth=1.25, symmetric=True):
     return -pos[::-1]
 
 
+def capped_graded_axis(fine, h, half_length, growth, cap):
+    """-half_length .. half_length, symmetric about 0: spacing h out to |x| = fine (a multiple of
+    h), then each spacing growth times the last, at most cap; a last spacing below half the
+    next one joins the one before it (the notched specimens' x axes, graded away from the
+    notch at x = 0)."""
+    pts = [0.0]
+    while pts[-1] < fine - 1e-12:
+        pts.append(min(fine, pts[-1] + h))
+    s = h
+    while pts[-1] < half_length - 1e-12:
+        s = min(s * growth, cap)
+        nxt = pts[-1] + s
+        if half_length - nxt < 0.5 * s:
+            nxt = half_length
+        pts.append(min(nxt, half_length))
+    half = np.array(pts)
+    return np.concatenate([-half[:0:-1], half])
+
+
 def box_tet_mesh_axes(xs, ys, zs):
     """Tet4 box on arbitrary (graded) axis coordinates; same splitting and face sets as box_tet_mesh."""
     nx, ny, nz = len(xs) - 1, len(ys) - 1, len(zs) - 1
@@ -376,7 +395,8 @@ def _find(X, x, y, tol):
     return ids[np.argsort(X[ids, 2])]
 
 
-def notched_beam(length, depth, notch_depth, h, element="tri3", notch_width=None, span=None):
+def notched_beam(length, depth, notch_depth, h, element="tri3", notch_width=None, span=None,
+                 xs=None):
     """Three-point-bending beam [-L/2, L/2] x [0, depth] (z = 0), tri3 or quad4 on a grid of
     spacing ~h with grid lines on x = 0, +-notch_width/2, +-span/2 and y = notch_depth.
 
@@ -384,7 +404,9 @@ def notched_beam(length, depth, notch_depth, h, element="tri3", notch_width=None
     removed; notch_width defaults to 2 h, the two element columns beside x = 0 (the narrowest
     slot whose tip (0, notch_depth) is a node); notch_width = 0 gives a zero-width cut whose two
     faces have distinct nodes at the same coordinates. tri3 diagonals are mirrored for x < 0,
-    so the mesh is symmetric. span defaults to 0.9 L. Returns (nodes, elements, groups):
+    so the mesh is symmetric. span defaults to 0.9 L. xs: the grid's x coordinates instead of the
+    uniform ones (e.g. capped_graded_axis; they must include 0, +-notch_width/2, +-span/2 and
+    +-L/2). Returns (nodes, elements, groups):
     "support_left"/"support_right" = the node (-+span/2, 0), "load" = the node (0, depth),
     "ligament" = the nodes on x = 0 from (0, notch_depth) to (0, depth).
     """
@@ -394,7 +416,8 @@ def notched_beam(length, depth, notch_depth, h, element="tri3", notch_width=None
     width = 2 * h if notch_width is None else notch_width
     if not (0 <= width / 2 < span / 2 < length / 2 + 1e-12) or not 0 <= notch_depth < depth:
         raise ValueError("need 0 <= notch_width < span <= length and 0 <= notch_depth < depth")
-    xs = _sym_axis([width / 2, span / 2, length / 2], h)
+    if xs is None:
+        xs = _sym_axis([width / 2, span / 2, length / 2], h)
     ys = _axis([notch_depth, depth], h)
     nx = len(xs) - 1
     X = np.array([[x, y, 0.0] for y in ys for x in xs])

@@ -12,10 +12,22 @@ INPUTS = os.path.join(HERE, "inputs")
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 
 
-def parse_args():
+def parser(vtk=None):
+    """The options every test takes: --exe; with vtk (the .pvd a test writes), also --vtk N."""
     p = argparse.ArgumentParser()
     p.add_argument("--exe", default=os.path.join(ROOT, "build", "fracdem"))
-    return p.parse_args()
+    if vtk:
+        p.add_argument("--vtk", type=int, default=10 ** 9,
+                       help=f"write {vtk} for ParaView every N steps in the run's directory")
+    return p
+
+
+def parse_args(p=None):
+    """The options of p (by default parser()), --exe made absolute: runs work in temporary
+    directories."""
+    args = (p or parser()).parse_args()
+    args.exe = os.path.abspath(args.exe)
+    return args
 
 
 def mpirun(np_):
@@ -142,3 +154,57 @@ def read_csv(path):
 def stable_dt(text):
     m = re.search(r"stable FE time step ([0-9.eE+-]+)", text)
     return float(m.group(1)) if m else None
+
+
+def run_at_stable_fraction(exe, script, wd, variables, fraction, duration, rows, np_=1):
+    """Probe the stable FE step of `script` in wd (a run of 0 steps), then run it at `fraction`
+    of that step for `duration` seconds with about `rows` energy-file rows (variables dt, steps,
+    every); returns dt0, dt, steps, wall (s) and the energy file (energy.csv)."""
+    import math
+    import time
+
+    dt0 = stable_dt(run(exe, script, workdir=wd, variables=dict(variables, dt=1e-12, steps=0, every=1)))
+    dt = fraction * dt0
+    steps = int(math.ceil(duration / dt))
+    every = max(1, steps // rows)
+    t0 = time.time()
+    run(exe, script, np_=np_, workdir=wd, variables=dict(variables, dt=dt, steps=steps, every=every))
+    return dict(dt0=dt0, dt=dt, steps=steps, wall=time.time() - t0,
+                energy=read_csv(os.path.join(wd, "energy.csv")))
+
+
+SPLIT_RE = re.compile(r"step (\d+): crack at node (\d+) -> new node (\d+), (normal)?")
+
+
+def node_splits(wd, separations=True):
+    """The node splits that log.liggghts in wd records, as (step, node, new node); separations
+    (a node whose pieces touched only at it, logged without a normal) only if asked for."""
+    with open(os.path.join(wd, "log.liggghts")) as f:
+        return [(int(m.group(1)), int(m.group(2)), int(m.group(3))) for m in SPLIT_RE.finditer(f.read())
+                if separations or m.group(4)]
+
+
+def split_positions(splits, X):
+    """Mesh position (a row of X) of the node of each split (step, node, new node); a split copy
+    sits where its parent was split."""
+    import numpy as np
+
+    parent, pos = {}, []
+    for _, old, new in splits:
+        parent[new] = old
+        node = old
+        while node >= len(X):
+            node = parent[node]
+        pos.append(X[node])
+    return np.array(pos).reshape(-1, len(X[0]))
+
+
+def energy_balance(e):
+    """Worst |kinetic + strain + dissipated + eroded - boundary work| over the rows of energy
+    file e, scaled by the largest boundary work."""
+    import numpy as np
+
+    lhs = (np.array(e["kinetic"]) + np.array(e["strain"]) + np.array(e["fracture_energy"])
+           + np.array(e["eroded_energy"]))
+    work = np.array(e["boundary_work"])
+    return float(np.max(np.abs(lhs - work)) / np.max(np.abs(work)))

@@ -38,13 +38,9 @@ Every parameter and its source:
 
 Run: python3 tests/integration/test_fracture_3d.py --exe build/fracdem (~20 s; the np 1 and np 2 runs).
 """
-import argparse
-import math
 import os
-import re
 import sys
 import tempfile
-import time
 
 import numpy as np
 
@@ -53,12 +49,7 @@ import harness as h
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
 from fracdem import meshgen  # noqa: E402
 
-parser = argparse.ArgumentParser()
-parser.add_argument("--exe", default=os.path.join(h.ROOT, "build", "fracdem"))
-parser.add_argument("--vtk", type=int, default=10 ** 9,
-                    help="write block.pvd for ParaView every N steps in the run's directory")
-args = parser.parse_args()
-args.exe = os.path.abspath(args.exe)  # the runs work in a temporary directory
+args = h.parse_args(h.parser(vtk="block.pvd"))
 
 # Petersson (1981); density EN 1991-1-1; section and notch RILEM TC 50-FMC.
 RHO, E, NU, FT, GF = 2400.0, 30e9, 0.2, 3.33e6, 124.0
@@ -67,27 +58,10 @@ H, FINE, GROWTH, CAP, NZ = 0.0125, 0.025, 1.3, 0.025, 4
 V, RAMP, STRETCH, DT_FRACTION = 0.05, 2e-4, 1e-4, 0.7
 A_LIG = (DEPTH - NOTCH) * WIDTH
 
-SPLIT_RE = re.compile(r"step (\d+): crack at node (\d+) -> new node (\d+), ")
-
-
-def x_axis():
-    """-L/2 .. L/2: spacing H within FINE of the notch, then growing by GROWTH up to CAP."""
-    pts = [0.0]
-    while pts[-1] < FINE - 1e-12:
-        pts.append(pts[-1] + H)
-    s = H
-    while pts[-1] < LENGTH / 2 - 1e-12:
-        s = min(s * GROWTH, CAP)
-        nxt = pts[-1] + s
-        if LENGTH / 2 - nxt < 0.5 * s:
-            nxt = LENGTH / 2
-        pts.append(min(nxt, LENGTH / 2))
-    half = np.array(pts)
-    return np.concatenate([-half[:0:-1], half])
-
 
 def block_mesh(path):
-    xs = x_axis()
+    # x: spacing H within FINE of the notch, then growing by GROWTH up to CAP
+    xs = meshgen.capped_graded_axis(FINE, H, LENGTH / 2, GROWTH, CAP)
     # span: only names the (unused) support groups; any grid line inside the block will do
     X, T, _ = meshgen.notched_block_tet(LENGTH, DEPTH, WIDTH, NOTCH, H, span=2 * xs[-2], xs=xs, nz=NZ)
     tol = 1e-9 * LENGTH
@@ -102,30 +76,11 @@ def run_block(wd, np_=1):
     X, T = block_mesh(os.path.join(wd, "block.msh"))
     var = dict(mesh="block.msh", rho=RHO, E=E, nu=NU, ft=FT, gf=GF, v=V, ramp=RAMP, fevery=10,
                thermo=10 ** 9, vtk=args.vtk)
-    dt0 = h.stable_dt(h.run(args.exe, "in.notched_block_3d", workdir=wd,
-                            variables=dict(var, dt=1e-12, steps=0, every=1)))
-    dt = DT_FRACTION * dt0
-    steps = int(math.ceil((STRETCH / V + RAMP / 2) / dt))
-    every = max(1, steps // 500)
-    t0 = time.time()
-    h.run(args.exe, "in.notched_block_3d", np_=np_, workdir=wd,
-          variables=dict(var, dt=dt, steps=steps, every=every))
-    with open(os.path.join(wd, "log.liggghts")) as f:
-        splits = [(int(m.group(1)), int(m.group(2)), int(m.group(3))) for m in SPLIT_RE.finditer(f.read())]
-    return dict(X=X, ntet=len(T), dt0=dt0, dt=dt, steps=steps, wall=time.time() - t0,
-                splits=splits, energy=h.read_csv(os.path.join(wd, "energy.csv")))
-
-
-def split_positions(splits, X):
-    """Mesh position of each split node; a split copy sits where its parent was split."""
-    parent, pos = {}, []
-    for _, old, new in splits:
-        parent[new] = old
-        node = old
-        while node >= len(X):
-            node = parent[node]
-        pos.append(X[node])
-    return np.array(pos).reshape(-1, 3)
+    r = h.run_at_stable_fraction(args.exe, "in.notched_block_3d", wd, var, DT_FRACTION,
+                                 STRETCH / V + RAMP / 2, 500, np_=np_)
+    # every split, separations (logged without a normal) included
+    r.update(X=X, ntet=len(T), splits=h.node_splits(wd))
+    return r
 
 
 wd = tempfile.mkdtemp(prefix="fracture_3d_")
@@ -136,11 +91,10 @@ e = r["energy"]
 P = np.array(e["reaction_xmax_x"])
 k = int(np.argmax(P))
 ke_se = e["kinetic"][k] / e["strain"][k]
-pos = split_positions(r["splits"], r["X"])
+pos = h.split_positions(r["splits"], r["X"])
 D = np.array(e["fracture_energy"])
-lhs = np.array(e["kinetic"]) + np.array(e["strain"]) + D + np.array(e["eroded_energy"])
 work = np.array(e["boundary_work"])
-balance = float(np.max(np.abs(lhs - work)) / np.max(np.abs(work)))
+balance = h.energy_balance(e)
 frags = np.array(e["fragments"]).astype(int)
 two = np.flatnonzero(frags == 2)
 print(f"notched block: {r['ntet']} tet4, dt = {r['dt']:.3g} s ({DT_FRACTION} x {r['dt0']:.3g}), "

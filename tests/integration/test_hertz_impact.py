@@ -10,7 +10,6 @@ theory is quasi-static: the peak is taken from the force history averaged over a
 t_c / 50, which removes the elastic waves ringing in the block's surface nodes (the raw peak is
 printed as well). About 2.5 minutes on 2 cores. `--csv FILE` writes the convergence table.
 """
-import argparse
 import math
 import os
 import shutil
@@ -19,10 +18,9 @@ import tempfile
 
 import harness as h
 
-p = argparse.ArgumentParser()
-p.add_argument("--exe", default=os.path.join(h.ROOT, "build", "fracdem"))
+p = h.parser()
 p.add_argument("--csv", default=None)
-args = p.parse_args()
+args = h.parse_args(p)
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
 from fracdem import meshgen  # noqa: E402
 

@@ -58,3 +58,15 @@ def test_notched_block_graded_axis_and_thickness_cells():
     assert len(np.unique(X[:, 2])) == 5
     assert len(T) == 6 * (len(xs) - 1) * 8 * 4
     assert np.allclose(X[np.unique(G["support_left"]), 0], -0.06)
+
+
+def test_capped_graded_axis_and_notched_beam_on_it():
+    xs = meshgen.capped_graded_axis(0.06, 0.01, 0.4, 1.2, 0.04)
+    assert np.allclose(xs, -xs[::-1]) and xs[0] == -0.4 and xs[-1] == 0.4
+    d = np.diff(xs[len(xs) // 2:])
+    assert np.allclose(d[:6], 0.01)  # uniform out to 60 mm
+    assert d.max() <= 0.04 * 1.5 + 1e-12 and np.all(d[6:-1] >= d[5:-2] - 1e-12)  # grows, capped
+    X, E, G = meshgen.notched_beam(0.8, 0.2, 0.1, 0.01, notch_width=0.0, span=0.8, xs=xs)
+    assert np.allclose(np.unique(X[:, 0]), xs)
+    assert len(E) == 2 * (len(xs) - 1) * 20
+    assert np.allclose(X[G["support_left"].ravel(), :2], [-0.4, 0.0])
