@@ -25,9 +25,16 @@ Centre positions are integrated from the momenta over the thermo rows (trapezoid
 rows are 50 steps apart, 1e-3 s, which shifts the distances by ~1e-5 m, far below h/2).
 """
 import os
+import re
+import sys
 import tempfile
 
+import numpy as np
+
 import harness as h
+
+sys.path.insert(0, os.path.join(h.ROOT, "python"))
+from fracdem import meshgen  # noqa: E402
 
 args = h.parse_args()
 MASS = 1000 * 0.3 * 0.1 * 0.1
@@ -84,4 +91,46 @@ for mu in (0.0, 0.3):
                 for k in range(len(ea["kinetic"]))) / e0
     h.check(worst < 0.02, f"mu={mu}: kinetic + strain - contact work within {worst:.2e} of the "
             f"initial energy {e0:.4f} J at every row (< 2 %)")
+
+# Restart while two pieces of one body touch edge on edge: the boxes of 6 x 1 x 1 and 1 x 6 x 1
+# cells (every node on the surface, so the upper piece's faces carry its velocity) placed as
+# above in one mesh, self contact; write_restart at step 600, 100 steps into the contact (the
+# pieces touch only by their ridges then: the overlap stays below h/2). The continued run must
+# match the uninterrupted one bit for bit (%.17g): the pieces' edge contact state (the offsets of
+# the penetrations, restart head section 2) is restored. Without it, the continuing contact
+# would restart as an unexplained penetration and push less.
+def rotated(X, axis, shift):
+    c = s = 2 ** -0.5
+    x, y, z = X[:, 0].copy(), X[:, 1].copy(), X[:, 2].copy()
+    if axis == 0:
+        y, z = c * y - s * z, s * y + c * z
+    else:
+        z, x = c * z - s * x, s * z + c * x
+    return np.column_stack([x + shift[0], y + shift[1], z + shift[2]])
+
+
+Xa, Ea, Ga = meshgen.box_tet_mesh(6, 1, 1, 0.3, 0.1, 0.1, origin=(-0.15, -0.05, -0.05))
+Xb, Eb, _ = meshgen.box_tet_mesh(1, 6, 1, 0.1, 0.3, 0.1, origin=(-0.05, -0.15, -0.05))
+X = np.vstack([rotated(Xa, 0, (0, 0.025, Z0)), rotated(Xb, 1, (0.025, 0, 0))])
+E = np.vstack([Ea, Eb + len(Xa)])
+wd = tempfile.mkdtemp(prefix="edge_contact_restart_")
+meshgen.write_gmsh22(os.path.join(wd, "pieces.msh"), X, E,
+                     {"upper": np.vstack([Ga[f] for f in sorted(Ga)])})
+head = open(os.path.join(h.INPUTS, "in.edge_contact")).read()
+head = head[:head.index("fix a all fem/body")].replace("${mu}", "0.3")
+fix = ("fix p all fem/body file pieces.msh type 1 density 1000 youngs 1e7 poisson 0.3 gravity no "
+       "velocity upper 0 0 -1 contact_bodies yes energy_file p.csv 50\n"
+       "thermo_style custom step f_p[1] f_p[2] f_p[4] f_p[13] f_p[14] f_p[15]\n"
+       "thermo_modify format float %.17g\nthermo 50\n")
+setup = re.compile(r"^(dimension|atom_style|atom_modify|boundary|units|region|create_box).*\n", re.M)
+open(os.path.join(wd, "in.a"), "w").write(head + fix + "run 600\nwrite_restart p.restart\nrun 400\n")
+open(os.path.join(wd, "in.b"), "w").write("read_restart p.restart\n" + setup.sub("", head) + fix
+                                          + "run 400\n")
+a = h.thermo_blocks(h.run(args.exe, "in.a", workdir=wd))
+b = h.thermo_blocks(h.run(args.exe, "in.b", workdir=wd))
+work = h.column(a, "p[4]", run_index=0)
+h.check(work[-1] != 0, f"pieces in contact at the restart (contact work {work[-1]:.3e} J)")
+(ha, ra), (hb, rb) = a[-1], b[-1]
+h.check(ha == hb and len(ra) == len(rb) and ra[0][0] == 600, "same thermo layout after restart")
+h.check(ra == rb, "the continued run matches the uninterrupted one bit for bit")
 print("OK")

@@ -258,6 +258,7 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
 {
   const int my_type = spec_->surface_type;
   self_contact_.configure(surface_options(my_type, spec_->material.E, friction(my_type, my_type)));
+  self_edges_.configure(self_contact_.options());
   partners_.clear();
   partners_.reserve(later.size());
   for (BodyDriver* other : later) {
