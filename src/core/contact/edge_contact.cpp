@@ -52,11 +52,23 @@ void remember(const ContactSurface& s, const double* x, std::vector<double>& x0)
       x0[3 * i + d] = x[3 * s.nodes[i] + d];
 }
 
-bool share_node(const SurfaceEdge& e, const SurfaceEdge& f)
+// Whether node p is a corner of one of edge e's two facets.
+bool on_facets(const ContactSurface& s, const SurfaceEdge& e, int p)
 {
-  return e.n[0] == f.n[0] || e.n[0] == f.n[1] || e.n[1] == f.n[0] || e.n[1] == f.n[1];
+  for (int k : e.facet)
+    for (int j = 0; j < 3; ++j)
+      if (s.facets[k].n[j] == p) return true;
+  return false;
 }
 } // namespace
+
+bool edges_adjacent(const ContactSurface& s, int e, int f)
+{
+  const SurfaceEdge& E = s.edges[e];
+  const SurfaceEdge& F = s.edges[f];
+  return on_facets(s, F, E.n[0]) || on_facets(s, F, E.n[1]) || on_facets(s, E, F.n[0]) ||
+         on_facets(s, E, F.n[1]);
+}
 
 bool edge_touch(const ContactSurface& a, int ea, const double* xa, const ContactSurface& b, int eb,
                 const double* xb, EdgeTouch& t)
@@ -182,44 +194,13 @@ double EdgeContact::effective_depth(const std::array<int, 4>& key, const EdgeTou
   return t.depth - offset;
 }
 
-void EdgeContact::apply(const EdgeTouch& t, const ContactSurface& a, const ContactBodyState& sa,
-                        const ContactSurface& b, const ContactBodyState& sb, double dt) const
+// The four nodal forces of one contact force `force` acting at pA on A and opposite at pB on B:
+// by the segment parameters, then the couple of the two points' offset cancelled (class notes).
+void EdgeContact::spread(const EdgeTouch& t, const double* const* x, const double* force,
+                         double (&f)[4][3])
 {
-  const SurfaceEdge& E = a.edges[t.ea];
-  const SurfaceEdge& F = b.edges[t.eb];
-  const double size = 0.5 * (std::sqrt(facet_measure(sb.x, b.facets[F.facet[0]])) +
-                             std::sqrt(facet_measure(sb.x, b.facets[F.facet[1]])));
-  const double fn = opt_.penalty_scale * opt_.youngs * size * t.depth;
-  double force[3];
-  for (int d = 0; d < 3; ++d)
-    force[d] = fn * t.normal[d];
-  if (opt_.friction > 0) {
-    const double vn = dot3(t.vr, t.normal);
-    double vt[3];
-    for (int d = 0; d < 3; ++d)
-      vt[d] = t.vr[d] - vn * t.normal[d];
-    const double speed = std::sqrt(dot3(vt, vt));
-    // Inverse effective mass of pA against pB under the spread by (1 - s, s), (1 - t, t).
-    const double w[4] = {1 - t.s, t.s, 1 - t.t, t.t};
-    const int node[4] = {E.n[0], E.n[1], F.n[0], F.n[1]};
-    double winv = 0;
-    for (int k = 0; k < 4; ++k) {
-      const double m = (k < 2 ? sa.m : sb.m)[node[k]];
-      if (m > 0) winv += w[k] * w[k] / m;
-    }
-    if (speed > 0) {
-      double ft = opt_.friction * fn;
-      if (winv > 0) ft = std::min(ft, speed / (winv * dt));
-      for (int d = 0; d < 3; ++d)
-        force[d] -= ft * vt[d] / speed;
-    }
-  }
-  // Nodal forces: by the segment parameters, then the couple cancelled (see the class notes).
-  const int node[4] = {E.n[0], E.n[1], F.n[0], F.n[1]};
-  const double* x[4] = {&sa.x[3 * node[0]], &sa.x[3 * node[1]], &sb.x[3 * node[2]],
-                        &sb.x[3 * node[3]]};
   const double w[4] = {1 - t.s, t.s, -(1 - t.t), -t.t};
-  double f[4][3], moment[3] = {0, 0, 0};
+  double moment[3] = {0, 0, 0}; // about pB
   for (int k = 0; k < 4; ++k) {
     double rel[3], m[3];
     for (int d = 0; d < 3; ++d) {
@@ -241,16 +222,51 @@ void EdgeContact::apply(const EdgeTouch& t, const ContactSurface& a, const Conta
   const double g11 = dot3(ua, ua), g12 = dot3(ua, ub), g22 = dot3(ub, ub);
   const double r1 = -dot3(moment, ua), r2 = -dot3(moment, ub);
   const double det = g11 * g22 - g12 * g12;
-  if (det > 0) {
-    const double alpha = (r1 * g22 - r2 * g12) / det, beta = (g11 * r2 - g12 * r1) / det;
-    // +c n at an edge's first node and -c n at its second add the moment c n x (x1 - x0).
-    for (int d = 0; d < 3; ++d) {
-      f[0][d] += alpha * t.normal[d];
-      f[1][d] -= alpha * t.normal[d];
-      f[2][d] += beta * t.normal[d];
-      f[3][d] -= beta * t.normal[d];
-    }
+  if (!(det > 0)) return;
+  const double alpha = (r1 * g22 - r2 * g12) / det, beta = (g11 * r2 - g12 * r1) / det;
+  // +c n at an edge's first node and -c n at its second add the moment c n x (x1 - x0).
+  for (int d = 0; d < 3; ++d) {
+    f[0][d] += alpha * t.normal[d];
+    f[1][d] -= alpha * t.normal[d];
+    f[2][d] += beta * t.normal[d];
+    f[3][d] -= beta * t.normal[d];
   }
+}
+
+void EdgeContact::apply(const EdgeTouch& t, const ContactSurface& a, const ContactBodyState& sa,
+                        const ContactSurface& b, const ContactBodyState& sb, double dt) const
+{
+  const SurfaceEdge& E = a.edges[t.ea];
+  const SurfaceEdge& F = b.edges[t.eb];
+  const int node[4] = {E.n[0], E.n[1], F.n[0], F.n[1]};
+  const double size = 0.5 * (std::sqrt(facet_measure(sb.x, b.facets[F.facet[0]])) +
+                             std::sqrt(facet_measure(sb.x, b.facets[F.facet[1]])));
+  const double fn = opt_.penalty_scale * opt_.youngs * size * t.depth;
+  double force[3];
+  for (int d = 0; d < 3; ++d)
+    force[d] = fn * t.normal[d];
+  const double vn = dot3(t.vr, t.normal);
+  double vt[3];
+  for (int d = 0; d < 3; ++d)
+    vt[d] = t.vr[d] - vn * t.normal[d];
+  const double speed = std::sqrt(dot3(vt, vt));
+  if (opt_.friction > 0 && speed > 0) {
+    // Inverse effective mass of pA against pB under the spread by (1 - s, s), (1 - t, t).
+    const double w[4] = {1 - t.s, t.s, 1 - t.t, t.t};
+    double winv = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double m = (k < 2 ? sa.m : sb.m)[node[k]];
+      if (m > 0) winv += w[k] * w[k] / m;
+    }
+    double ft = opt_.friction * fn;
+    if (winv > 0) ft = std::min(ft, speed / (winv * dt));
+    for (int d = 0; d < 3; ++d)
+      force[d] -= ft * vt[d] / speed;
+  }
+  const double* x[4] = {&sa.x[3 * node[0]], &sa.x[3 * node[1]], &sb.x[3 * node[2]],
+                        &sb.x[3 * node[3]]};
+  double f[4][3];
+  spread(t, x, force, f);
   for (int k = 0; k < 4; ++k) {
     double* out = k < 2 ? sa.f : sb.f;
     if (out)
@@ -273,7 +289,7 @@ int EdgeContact::evaluate(const ContactSurface& a, const ContactBodyState& sa,
     // Self contact: each unordered pair once, the edges around a corner never.
     if (self)
       search_.prune([&](int i, int j) {
-        return feat_a_[i] < feat_b_[j] && !share_node(a.edges[feat_a_[i]], b.edges[feat_b_[j]]);
+        return feat_a_[i] < feat_b_[j] && !edges_adjacent(a, feat_a_[i], feat_b_[j]);
       });
   }
   for (const auto& c : search_.candidates()) {

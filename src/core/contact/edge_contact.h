@@ -22,8 +22,9 @@ namespace fracdem
 //   its two facets' normals), and A's outward edge normal must face B (n . N_A < 0);
 // * penetration g = (pB - pA) . n > 0, accepted up to the pair's reach: the smaller of the two
 //   edges' reaches (half the altitude of the elements over their facets, as SurfaceContact);
-// * self contact: edges that share a node are the same corner and never a contact; each
-//   unordered pair is taken once (the rule is symmetric in A and B).
+// * self contact: edges of one surface neighbourhood (one edge has a node on the other's facets:
+//   edges that share a node or a facet, or that a single facet joins) are never a contact;
+//   each unordered pair is taken once (the rule is symmetric in A and B).
 // Force: k g' n on A at pA, the opposite on B at pB, with k = penalty_scale * E * (mean square
 // root of the areas of B's two facets): SurfaceContact's 3D rule with B's edge in place of the
 // facet; g' is g less the offset of a penetration the step's approach cannot explain
@@ -45,6 +46,9 @@ struct EdgeTouch {
 // edge penetrates B's edge, t then holds parameters, depth, normal and points.
 bool edge_touch(const ContactSurface& a, int ea, const double* xa, const ContactSurface& b, int eb,
                 const double* xb, EdgeTouch& t);
+
+// Self contact: whether edges e and f of s are neighbours (a node of one on the other's facets).
+bool edges_adjacent(const ContactSurface& s, int e, int f);
 
 class EdgeContact
 {
@@ -78,6 +82,8 @@ private:
   void rebuild_search(const ContactSurface& a, const double* xa, const ContactSurface& b,
                       const double* xb);
   double effective_depth(const std::array<int, 4>& key, const EdgeTouch& t, double dt);
+  static void spread(const EdgeTouch& t, const double* const* x, const double* force,
+                     double (&f)[4][3]);
   void apply(const EdgeTouch& t, const ContactSurface& a, const ContactBodyState& sa,
              const ContactSurface& b, const ContactBodyState& sb, double dt) const;
 
