@@ -270,6 +270,8 @@ TEST(BodySpec, ContactAndRunKeywords)
   EXPECT_TRUE(d.tangential_history);
   EXPECT_EQ(d.contact_bodies, 0);
   EXPECT_EQ(parse("").history_slots, 8);
+  EXPECT_TRUE(parse("").contact_edges);
+  EXPECT_FALSE(parse("contact_edges no").contact_edges);
 }
 
 TEST(BodySpec, MissingValues)
@@ -352,6 +354,7 @@ TEST(BodySpec, OutOfRangeAndBadWords)
       {"tangential yes", "keyword 'tangential' expects history or no_history"},
       {"compliance both", "keyword 'compliance' expects particle or combined"},
       {"contact_bodies 1", "keyword 'contact_bodies' expects yes or no"},
+      {"contact_edges 1", "keyword 'contact_edges' expects yes or no"},
       {"rotate axis 0 0 0 angle 10",
        "keyword 'rotate' got axis 0 0 0, expected a non-zero axis direction ax ay az"},
       {"rotate axes 0 0 1 angle 10", "keyword 'rotate' expects 'axis ax ay az angle DEGREES'"},
@@ -397,7 +400,7 @@ TEST(BodySpec, UnknownKeywordAndHeader)
 TEST(BodySpec, KeywordTableListsEveryKeywordOnce)
 {
   const std::vector<std::string> k = body_keywords();
-  EXPECT_EQ(k.size(), 33u);
+  EXPECT_EQ(k.size(), 34u);
   for (std::size_t i = 0; i < k.size(); ++i)
     for (std::size_t j = i + 1; j < k.size(); ++j)
       EXPECT_NE(k[i], k[j]);

@@ -38,9 +38,11 @@ std::string format(const char* fmt, ...)
 // reader skips the head by its length, so one that knows no sections reads the placement as
 // before. kSelfContactSection: the contact state of the body's pieces
 // (SurfaceContact::pack_state), written only where there is some, so a body without piece
-// contact writes the same bytes.
+// contact writes the same bytes. kSelfEdgeSection: the pieces' edge contact state
+// (EdgeContact::pack_state), likewise.
 constexpr double kRecordHead = -1.0;
 constexpr double kSelfContactSection = 1.0;
+constexpr double kSelfEdgeSection = 2.0;
 
 // The placement keywords as the input writes them.
 std::string placement_text(bool rigid, const std::vector<MeshTransform>& transforms)
@@ -256,6 +258,7 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
 {
   const int my_type = spec_->surface_type;
   self_contact_.configure(surface_options(my_type, spec_->material.E, friction(my_type, my_type)));
+  self_edges_.configure(self_contact_.options());
   partners_.clear();
   partners_.reserve(later.size());
   for (BodyDriver* other : later) {
@@ -265,6 +268,7 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
     const auto so = surface_options(t, other->spec_->material.E, friction(my_type, t));
     partners_.back().mine_on_theirs.configure(so);
     partners_.back().theirs_on_mine.configure(so);
+    partners_.back().edges.configure(so);
   }
   partner_of_ = earlier;
   rebuild_surfaces();
@@ -705,9 +709,11 @@ void BodyDriver::rebuild_surfaces()
   if (spec_->contact_bodies <= 0) return;
   surface_.build(body_.mesh(), contact_.facets());
   self_contact_.invalidate();
+  self_edges_.invalidate();
   for (Partner& p : partners_) {
     p.mine_on_theirs.invalidate();
     p.theirs_on_mine.invalidate();
+    p.edges.invalidate();
   }
   for (BodyDriver* other : partner_of_)
     other->partner_changed(this);
@@ -719,6 +725,7 @@ void BodyDriver::partner_changed(BodyDriver* other)
     if (p.other == other) {
       p.mine_on_theirs.invalidate();
       p.theirs_on_mine.invalidate();
+      p.edges.invalidate();
     }
 }
 
@@ -727,12 +734,16 @@ int BodyDriver::body_contacts(double dt)
   ContactBodyState me{body_.positions().data(), body_.velocities().data(), body_.masses().data(),
                       body_.contact_forces()};
   int n = self_contact_.evaluate(surface_, me, surface_, me, true, dt);
+  // Edge to edge (3D only: a 2D surface has no edges), where the bodies have it on.
+  if (spec_->contact_edges) n += self_edges_.evaluate(surface_, me, surface_, me, true, dt);
   for (Partner& p : partners_) {
     Body& ob = p.other->body_;
     ContactBodyState them{ob.positions().data(), ob.velocities().data(), ob.masses().data(),
                           ob.pending_contact_forces()};
     n += p.mine_on_theirs.evaluate(surface_, me, p.other->surface_, them, false, dt);
     n += p.theirs_on_mine.evaluate(p.other->surface_, them, surface_, me, false, dt);
+    if (spec_->contact_edges && p.other->spec_->contact_edges)
+      n += p.edges.evaluate(surface_, me, p.other->surface_, them, false, dt);
   }
   return n;
 }
@@ -1062,13 +1073,16 @@ std::vector<double> BodyDriver::record_head() const
     buf.push_back(static_cast<double>(t.kind));
     buf.insert(buf.end(), t.a, t.a + 4);
   }
-  std::vector<double> self_state;
-  if (spec_->contact_bodies > 0) self_contact_.pack_state(self_state);
-  if (!self_state.empty()) {
-    buf.push_back(kSelfContactSection);
-    buf.push_back(static_cast<double>(self_state.size()));
-    buf.insert(buf.end(), self_state.begin(), self_state.end());
-  }
+  std::vector<double> state[2];
+  if (spec_->contact_bodies > 0) self_contact_.pack_state(state[0]);
+  if (spec_->contact_bodies > 0) self_edges_.pack_state(state[1]);
+  const double tags[2] = {kSelfContactSection, kSelfEdgeSection};
+  for (int i = 0; i < 2; ++i)
+    if (!state[i].empty()) {
+      buf.push_back(tags[i]);
+      buf.push_back(static_cast<double>(state[i].size()));
+      buf.insert(buf.end(), state[i].begin(), state[i].end());
+    }
   buf[1] = static_cast<double>(buf.size() - 2);
   return buf;
 }
@@ -1129,7 +1143,8 @@ void BodyDriver::read_body_record(const double* record)
 // The head (after marker and length): placement, then sections. The stored state keeps the
 // stored placement (reference coordinates included), so a command that places the body
 // otherwise, or changes 'rigid', would be silently overruled: refused.
-void BodyDriver::read_head(const double* head, int n, const double*& self_state, size_t& self_size)
+void BodyDriver::read_head(const double* head, int n, const double* (&state)[2],
+                           size_t (&state_size)[2])
 {
   const int nt = n >= 2 ? static_cast<int>(head[1]) : -1;
   if (nt < 0 || n < 2 + 5 * nt) fail("fix fem/body: corrupt restart record");
@@ -1149,9 +1164,10 @@ void BodyDriver::read_head(const double* head, int n, const double*& self_state,
     const double tag = head[k];
     const int size = k + 1 < n ? static_cast<int>(head[k + 1]) : -1;
     if (size < 0 || k + 2 + size > n) fail("fix fem/body: corrupt restart record");
-    if (tag == kSelfContactSection) {
-      self_state = head + k + 2;
-      self_size = static_cast<size_t>(size);
+    const int section = tag == kSelfContactSection ? 0 : tag == kSelfEdgeSection ? 1 : -1;
+    if (section >= 0) {
+      state[section] = head + k + 2;
+      state_size[section] = static_cast<size_t>(size);
     }
     k += 2 + size;
   }
@@ -1159,11 +1175,11 @@ void BodyDriver::read_head(const double* head, int n, const double*& self_state,
 
 void BodyDriver::read_restart(const double* record)
 {
-  const double* self_state = nullptr;
-  size_t self_size = 0;
+  const double* state[2] = {nullptr, nullptr};
+  size_t state_size[2] = {0, 0};
   if (record[0] == kRecordHead) {
     const int n = static_cast<int>(record[1]);
-    read_head(record + 2, n, self_state, self_size);
+    read_head(record + 2, n, state, state_size);
     record += 2 + n;
   }
   try {
@@ -1175,9 +1191,10 @@ void BodyDriver::read_restart(const double* record)
   rebuild_surfaces();
   // The pieces' contacts continue where they were (without: a resting contact would restart
   // as an unexplained penetration and lose its force).
-  if (spec_->contact_bodies > 0 && self_state) {
+  if (spec_->contact_bodies > 0) {
     try {
-      self_contact_.unpack_state(self_state, self_size);
+      if (state[0]) self_contact_.unpack_state(state[0], state_size[0]);
+      if (state[1]) self_edges_.unpack_state(state[1], state_size[1]);
     } catch (const std::exception& e) {
       fail(prefix() + e.what());
     }

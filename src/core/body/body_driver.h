@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "contact/particle_facet.h"
+#include "contact/edge_contact.h"
 #include "contact/surface_contact.h"
 #include "fem/body.h"
 #include "body/body_partition.h"
@@ -166,6 +167,7 @@ private:
   struct Partner {
     BodyDriver* other = nullptr;
     SurfaceContact mine_on_theirs, theirs_on_mine;
+    EdgeContact edges; // 3D, when both bodies have contact_edges yes
   };
   [[noreturn]] void fail(const std::string& text) const;
   void print(const std::string& line, bool screen = true, bool logfile = true) const;
@@ -204,7 +206,8 @@ private:
   double distributed_vector_entry(int i);
   void build_distributed(int dimension);
   void fail_one(const std::string& text) const;
-  void read_head(const double* head, int n, const double*& self_state, size_t& self_size);
+  // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state.
+  void read_head(const double* head, int n, const double* (&state)[2], size_t (&size)[2]);
   std::vector<double> record_head() const;
   std::vector<double> distributed_body_record() const;
   void read_body_record(const double* record);
@@ -227,6 +230,7 @@ private:
   ParticleFacetContact contact_;
   ContactSurface surface_;
   SurfaceContact self_contact_;
+  EdgeContact self_edges_;
   std::vector<Partner> partners_;
   std::vector<BodyDriver*> partner_of_; // earlier bodies that handle contact with this one
   FailureMap failure_map_;              // kept between checks: no allocation per check

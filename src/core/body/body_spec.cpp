@@ -404,6 +404,11 @@ void parse_contact_bodies(SpecReader& r, BodySpec& s)
   s.contact_bodies = r.either("yes", "no") ? 1 : 0;
 }
 
+void parse_contact_edges(SpecReader& r, BodySpec& s)
+{
+  s.contact_edges = r.either("yes", "no");
+}
+
 void parse_contact_penalty(SpecReader& r, BodySpec& s)
 {
   s.contact_penalty = one_number(r, "a factor");
@@ -460,6 +465,7 @@ const std::vector<Keyword> kKeywords = {
     {"energy_file", parse_energy_file},
     {"contact_bodies", parse_contact_bodies},
     {"contact_penalty", parse_contact_penalty},
+    {"contact_edges", parse_contact_edges},
     {"history_slots", parse_history_slots},
     {"parallel", parse_parallel},
 };

@@ -82,6 +82,7 @@ struct BodySpec {
   // ---- body-body contact ----
   int contact_bodies = -1; // -1: default (yes with fracture, else no)
   double contact_penalty = 0.1;
+  bool contact_edges = true; // contact_edges yes|no: edge-to-edge contact (3D) beside node-to-facet
   // ---- run ----
   bool dt_check_error = true; // dt_check error|warn
   // substeps auto|N|off: FE steps per host step (kSubstepsAuto: as many as the stable step asks

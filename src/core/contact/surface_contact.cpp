@@ -21,6 +21,21 @@ double facet_size(const double* x, const Facet& fc)
 }
 } // namespace
 
+void facet_unit_normal(const double* x, const Facet& fc, double* n)
+{
+  const double* a = &x[3 * fc.n[0]];
+  const double* b = &x[3 * fc.n[1]];
+  const double* c = &x[3 * fc.n[2]];
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int d = 0; d < 3; ++d)
+    n[d] = l > 0 ? n[d] / l : 0.0;
+}
+
 void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
 {
   facets = boundary;
@@ -56,6 +71,53 @@ void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
   for (int k = 0; k < static_cast<int>(facets.size()); ++k)
     for (int j = 0; j < facets[k].nn; ++j)
       incident[fill[facets[k].n[j]]++] = k;
+  build_edges(X);
+}
+
+// Edges shared by exactly two boundary triangles, sorted by their nodes; feature test on the
+// reference coordinates (a rigid motion does not change it; rebuilt after every topology change).
+void ContactSurface::build_edges(const double* X)
+{
+  edges.clear();
+  max_edge_reach = 0;
+  std::vector<std::array<int, 3>> sides; // (lower node, higher node, facet)
+  for (int k = 0; k < static_cast<int>(facets.size()); ++k) {
+    if (facets[k].nn != 3) return; // 2D: no edge contact
+    for (int j = 0; j < 3; ++j) {
+      const int p = facets[k].n[j], q = facets[k].n[(j + 1) % 3];
+      sides.push_back({std::min(p, q), std::max(p, q), k});
+    }
+  }
+  std::sort(sides.begin(), sides.end());
+  const double cos_feature = std::cos(kFeatureAngleDeg * M_PI / 180);
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i;
+    while (j < sides.size() && sides[j][0] == sides[i][0] && sides[j][1] == sides[i][1])
+      ++j;
+    if (j - i == 2) {
+      SurfaceEdge e{{sides[i][0], sides[i][1]}, {sides[i][2], sides[i + 1][2]}, 0, false};
+      e.reach = std::min(reach[e.facet[0]], reach[e.facet[1]]);
+      double n0[3], n1[3];
+      facet_unit_normal(X, facets[e.facet[0]], n0);
+      facet_unit_normal(X, facets[e.facet[1]], n1);
+      // Convex: the far vertex of the second facet lies behind the first facet's plane.
+      const Facet& f1 = facets[e.facet[1]];
+      const int far = f1.n[0] != e.n[0] && f1.n[0] != e.n[1]   ? f1.n[0]
+                      : f1.n[1] != e.n[0] && f1.n[1] != e.n[1] ? f1.n[1]
+                                                               : f1.n[2];
+      double r[3], rr = 0, behind = 0;
+      for (int d = 0; d < 3; ++d) {
+        r[d] = X[3 * far + d] - X[3 * e.n[0] + d];
+        rr += r[d] * r[d];
+        behind += r[d] * n0[d];
+      }
+      const double dot = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
+      e.feature = dot < cos_feature && behind < -0.01 * std::sqrt(rr);
+      if (e.feature) max_edge_reach = std::max(max_edge_reach, e.reach);
+      edges.push_back(e);
+    }
+    i = j;
+  }
 }
 
 bool ContactSurface::neighbourhood(int node, int facet) const

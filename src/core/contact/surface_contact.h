@@ -21,6 +21,20 @@ struct SurfaceContactOptions {
   double friction = 0; // Coulomb coefficient
 };
 
+// Outward unit normal of a triangle facet at positions x (zero for a degenerate one).
+void facet_unit_normal(const double* x, const Facet& fc, double* n);
+
+// A boundary edge of a 3D surface with its two boundary facets (edge_contact.h). `feature`: the
+// edge is convex and its facets' reference normals differ by at least kFeatureAngleDeg, so it
+// can meet another edge where no node meets a facet; flat and concave edges are left to
+// node-to-facet contact.
+struct SurfaceEdge {
+  int n[2];
+  int facet[2];
+  double reach; // the smaller of its facets' reaches
+  bool feature;
+};
+
 // Every boundary node is checked against the boundary facets that share no node with the facets
 // around it (its own surface neighbourhood: a corner is not a contact). A node is
 // in contact with a facet when its projection falls on the facet (barycentric coordinates >=
@@ -37,16 +51,23 @@ struct SurfaceContactOptions {
 // LS-DYNA's IGNORE option treats initial penetrations). Without it such a contact releases
 // penalty energy that no work put in; with it the contact energy stays bounded by the work
 // of the approach. The offset is kept per node while the node stays in contact.
-// The boundary of one body for surface contact: facets, their nodes, facets around each node.
+// The boundary of one body for surface contact: facets, their nodes, facets around each node,
+// and in 3D the edges between two boundary facets (edges of more or fewer facets are left out).
 struct ContactSurface {
+  static constexpr double kFeatureAngleDeg = 30;
   std::vector<Facet> facets;
   std::vector<int> nodes;                     // boundary nodes, ascending
   std::vector<int> incident_offset, incident; // per mesh node: boundary facets around it
   std::vector<double> reach; // per facet: deepest accepted contact, half its element altitude
   double max_reach = 0;
+  std::vector<SurfaceEdge> edges; // 3D only; sorted by (lower node, higher node)
+  double max_edge_reach = 0;      // over the feature edges
   void build(const Mesh& mesh, const std::vector<Facet>& boundary);
   // Whether `facet` shares a node with a facet around `node` (same body only).
   bool neighbourhood(int node, int facet) const;
+
+private:
+  void build_edges(const double* X);
 };
 
 // A body's nodal state as surface contact sees it; forces are added to f (null: not added).
