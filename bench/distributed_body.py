@@ -15,6 +15,8 @@ of a rank; CSV + PNG.
   python3 bench/distributed_body.py [--exe build/fracdem] [--reps 5] [--cells 26 55] [--np 1 2]
 
 CELLS c gives 12 c^3 tets (26: 2.1e5, 55: 2.0e6). On a machine with more cores, --np 1 2 4 8 16.
+Where distributed starts to pay (the default `parallel` by size): --cells 4 6 8 10 13 17 --np 1 2
+--name distributed_body_threshold.
 
   python3 bench/distributed_body.py --memory [--builds before=OLD/fracdem after=build/fracdem]
       [--cells 26] [--np 1 2 4]
@@ -134,6 +136,7 @@ def main():
     p.add_argument("--np", type=int, nargs="+", default=[1, 2])
     p.add_argument("--model", default="elastic", choices=["elastic", "corotational"])
     p.add_argument("--out", default=os.path.join(HERE, "results"))
+    p.add_argument("--name", default="distributed_body", help="stem of the CSV and PNG files")
     p.add_argument("--memory", action="store_true", help="peak memory per rank of fix fem/body")
     p.add_argument("--builds", nargs="+", help="--memory: LABEL=EXE for each build compared")
     a = p.parse_args()
@@ -159,13 +162,13 @@ def main():
                          "peak_rss_mb_max": max(float(r["peak_rss_mb_max"]) for r in runs)})
             print(rows[-1])
     os.makedirs(a.out, exist_ok=True)
-    path = os.path.join(a.out, "distributed_body.csv")
+    path = os.path.join(a.out, a.name + ".csv")
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
     print(f"wrote {path}")
-    plot(rows, os.path.join(a.out, "distributed_body.png"))
+    plot(rows, os.path.join(a.out, a.name + ".png"))
 
 
 def plot(rows, path):
