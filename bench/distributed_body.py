@@ -175,7 +175,7 @@ def plot(rows, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(15, 4))
     for variant in ("replicated", "distributed"):
         for elements in sorted({r["elements"] for r in rows}, key=int):
             sel = [r for r in rows if r["variant"] == variant and r["elements"] == elements]
@@ -188,6 +188,17 @@ def plot(rows, path):
     ax2.set(xlabel="ranks", ylabel="peak memory of a rank (MB)", title="memory")
     ax1.legend(fontsize=7)
     ax2.legend(fontsize=7)
+    # Where distributed pays: replicated / distributed step time at the largest rank count.
+    top = max(nps)
+    ratio = {}
+    for r in rows:
+        if r["np"] == top:
+            ratio.setdefault(int(r["elements"]), {})[r["variant"]] = float(r["ms_per_step_median"])
+    sizes = sorted(e for e, v in ratio.items() if len(v) == 2)
+    ax3.semilogx(sizes, [ratio[e]["replicated"] / ratio[e]["distributed"] for e in sizes], "o-")
+    ax3.axhline(1.0, color="k", ls=":")
+    ax3.set(xlabel="elements", ylabel=f"replicated / distributed step time at {top} ranks",
+            title="where distributed pays")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     print(f"wrote {path}")

@@ -43,8 +43,9 @@ MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int npro
 
 // parallel by size (no 'parallel' keyword): a body is distributed over the ranks when it has more
 // than this many elements and uses nothing distributed bodies refuse (distributed_refusal), else
-// replicated. Measured with bench/distributed_body.py (docs/distributed_bodies.md): below, the
-// replicated body's step is as fast at 2 ranks and keeps every feature.
+// replicated. Measured with bench/distributed_body.py (docs/benchmarks.md): from about 12 000
+// elements on the distributed step is faster at 2 ranks; below, neither wins consistently and a
+// replicated body keeps every feature.
 constexpr int kDistributedMinElements = 20000;
 // Why the body of spec, with `elements` elements, is replicated or distributed when the spec
 // leaves it to the size ("" when the spec chose); distributed: the choice.
