@@ -42,6 +42,26 @@ void add_mpi_services(BodyHost& host, MPI_Comm comm)
                 MPI_DOUBLE, 0, comm);
     return all;
   };
+  host.scatter = [comm](const std::function<std::vector<double>(int)>& make) {
+    constexpr int kPartTag = 7320; // fracdem body parts at set-up (node exchange: 7301)
+    int rank = 0, size = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    if (rank == 0) {
+      for (int r = 1; r < size; ++r) {
+        const std::vector<double> message = make(r);
+        MPI_Send(message.data(), static_cast<int>(message.size()), MPI_DOUBLE, r, kPartTag, comm);
+      }
+      return make(0);
+    }
+    MPI_Status status;
+    MPI_Probe(0, kPartTag, comm, &status);
+    int count = 0;
+    MPI_Get_count(&status, MPI_DOUBLE, &count);
+    std::vector<double> message(count);
+    MPI_Recv(message.data(), count, MPI_DOUBLE, 0, kPartTag, comm, MPI_STATUS_IGNORE);
+    return message;
+  };
   host.all_gather = [comm](const std::vector<double>& mine) { return all_gather(comm, mine); };
   host.exchange = [comm](int round, const std::vector<int>& to,
                          const std::vector<std::vector<double>>& out, const std::vector<int>& from,

@@ -9,7 +9,7 @@
 namespace fracdem
 {
 
-// Sets host.rank, nprocs, sum, max, min, max_int, gather, all_gather, exchange and
+// Sets host.rank, nprocs, sum, max, min, max_int, gather, scatter, all_gather, exchange and
 // shared_sum_for over comm.
 void add_mpi_services(BodyHost& host, MPI_Comm comm);
 

@@ -15,7 +15,9 @@ twisting by initial velocities, corotational; no particles. Asserted:
   rows only at the end): the body's exchange (calls made by NodeExchange) sends exactly 24 bytes
   per (shared node, neighbouring part) pair and step, the number fix fem/body prints at set-up,
   in one message per neighbouring part; the project's code (FixFemBody, BodyDriver, NodeExchange)
-  issues no collective between thermo steps;
+  issues no collective between thermo steps but the re-estimate of the sub-cycling (substeps
+  auto: one min-reduction of the parts' stable steps every 100 steps, BodyDriver::check_squeezed;
+  this test asserted none before the distributed body followed its stable step);
 * refusals: `parallel distributed` with fracture stops naming the keyword (particle contact:
   test_distributed_contact.py).
 """
@@ -125,15 +127,21 @@ h.check(seen > 0, f"the body's collectives are recognised in the whole run ({see
                   f"set-up and thermo steps)")
 exchange_bytes = exchange_msgs = 0
 for d in diffs:
-    rank_msgs, own_coll = 0, []
+    rank_msgs, own_coll, restep = 0, [], 0
     for (module, caller, func, cat), (count, nbytes) in d["sites"].items():
         if cat == "send" and "NodeExchange" in caller:
             exchange_bytes += nbytes
             rank_msgs += count
         if cat == "coll" and count and re.search(BODY_CODE, caller):
-            own_coll.append(f"{count} x {func} in {caller}")
+            if func == "MPI_Allreduce" and "check_squeezed" in caller:
+                restep += count
+            else:
+                own_coll.append(f"{count} x {func} in {caller}")
     h.check(not own_coll, f"rank {d['rank']}: no collective of the body's code between thermo "
-                          f"steps ({'; '.join(own_coll) or 'none'})")
+                          f"steps but the sub-cycling check ({'; '.join(own_coll) or 'none'})")
+    h.check(restep == steps // 100,
+            f"rank {d['rank']}: {restep} min-reductions of the stable step in {steps} steps "
+            f"(substeps auto: one every 100 steps)")
     partners = sum(1 for r, x in enumerate(d["dest"]) if x[0] > 0 and r != d["rank"])
     h.check(abs(rank_msgs / steps - partners) < 1e-9,
             f"rank {d['rank']}: {rank_msgs / steps:.2f} exchange messages per step to "

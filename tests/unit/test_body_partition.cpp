@@ -9,6 +9,8 @@
 
 #include "fem/body.h"
 #include "body/body_partition.h"
+#include "body/body_setup.h"
+#include "body/facet_ghosts.h"
 #include "io/mesh_generators.h"
 #include "test_support.h"
 
@@ -257,6 +259,75 @@ TEST_P(BodyPartition, PartsInLockstepFollowTheWholeBody)
           EXPECT_EQ(x[d], seen[gn][d]) << "node " << gn << " part " << p;
     }
   EXPECT_LT(worst, 1e-10 * 1.2);
+}
+
+// parallel distributed set-up: rank 0 packs each rank's part and the whole surface into one
+// message (part_message); what the rank unpacks is the part it would have cut itself, field for
+// field (element order and numbering, sets, neighbours, sharers), and the same surface.
+TEST_P(BodyPartition, PartMessagesCarryThePartAndTheSurfaceExactly)
+{
+  Mesh mesh = test_mesh(GetParam());
+  for (int n = 0; n < mesh.num_nodes(); n += 3)
+    mesh.node_sets["every third"].push_back(n);
+  mesh.node_sets["none"] = {};
+  for (int e = 0; e < mesh.num_elems(); e += 2)
+    mesh.elem_sets["even"].push_back(e);
+  for (int nparts : {1, 2, 3, 4}) {
+    const std::vector<int> elem_part = partition_elements(mesh, nparts);
+    const GlobalSurface surface = global_surface(mesh, elem_part);
+    const std::vector<double> packed = pack_surface(surface);
+    for (int p = 0; p < nparts; ++p) {
+      const MeshPart want = extract_part(mesh, elem_part, p);
+      const std::vector<double> message = part_message(mesh, elem_part, packed, p);
+      EXPECT_EQ(message[0], mesh.num_nodes());
+      EXPECT_EQ(message[1], mesh.num_elems());
+      std::size_t at = 2;
+      const MeshPart got = unpack_part(message, at);
+      EXPECT_EQ(got.part, want.part);
+      EXPECT_EQ(got.nparts, want.nparts);
+      EXPECT_EQ(got.mesh.dim, want.mesh.dim);
+      EXPECT_EQ(got.mesh.X, want.mesh.X); // bit for bit
+      EXPECT_EQ(got.mesh.etype, want.mesh.etype);
+      EXPECT_EQ(got.mesh.conn, want.mesh.conn);
+      EXPECT_EQ(got.mesh.active, want.mesh.active);
+      EXPECT_EQ(got.mesh.region, want.mesh.region);
+      EXPECT_EQ(got.mesh.node_sets, want.mesh.node_sets);
+      EXPECT_EQ(got.mesh.elem_sets, want.mesh.elem_sets);
+      EXPECT_EQ(got.global_node, want.global_node);
+      EXPECT_EQ(got.global_elem, want.global_elem);
+      ASSERT_EQ(got.neighbours.size(), want.neighbours.size());
+      for (size_t k = 0; k < want.neighbours.size(); ++k) {
+        EXPECT_EQ(got.neighbours[k].part, want.neighbours[k].part);
+        EXPECT_EQ(got.neighbours[k].nodes, want.neighbours[k].nodes);
+      }
+      EXPECT_EQ(got.sharer_start, want.sharer_start);
+      EXPECT_EQ(got.sharers, want.sharers);
+      const GlobalSurface s = unpack_surface(message, at);
+      EXPECT_EQ(at, message.size());
+      ASSERT_EQ(s.facets.size(), surface.facets.size());
+      for (size_t f = 0; f < s.facets.size(); ++f) {
+        EXPECT_EQ(s.facets[f].n, surface.facets[f].n);
+        EXPECT_EQ(s.facets[f].nn, surface.facets[f].nn);
+        EXPECT_EQ(s.facets[f].elem, surface.facets[f].elem);
+        EXPECT_EQ(s.facets[f].local_face, surface.facets[f].local_face);
+      }
+      EXPECT_EQ(s.part, surface.part);
+      EXPECT_EQ(s.ref_normal, surface.ref_normal);
+      EXPECT_EQ(s.piece, surface.piece);
+      EXPECT_EQ(s.nodes, surface.nodes);
+      EXPECT_EQ(s.X, surface.X);
+      EXPECT_EQ(s.area, surface.area);
+      // A message cut short is refused, not read past its end.
+      std::vector<double> cut(message.begin(), message.begin() + message.size() / 2);
+      at = 2;
+      EXPECT_THROW(
+          {
+            unpack_part(cut, at);
+            unpack_surface(cut, at);
+          },
+          std::runtime_error);
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, BodyPartition,

@@ -659,12 +659,14 @@ TEST(BodySpec, ParallelDistributed)
 {
   const std::string body = std::string(kBody) + " ";
   EXPECT_FALSE(parse(body).distributed);
+  EXPECT_FALSE(parse(body).have_parallel); // chosen by size at set-up
   EXPECT_TRUE(parse(body + "parallel distributed").distributed);
   EXPECT_FALSE(parse(body + "parallel replicated").distributed);
+  EXPECT_TRUE(parse(body + "parallel replicated").have_parallel);
   EXPECT_EQ(error_of(body + "parallel sideways"),
             "keyword 'parallel' expects distributed or replicated");
   EXPECT_EQ(check_error(body + "parallel distributed"), "");
-  const std::string tail = " yet; use 'parallel replicated' (the default)";
+  const std::string tail = " yet; use 'parallel replicated'";
   EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
                                "fracture_energy 100 fracture nodal"),
             "keyword 'parallel distributed' does not work with 'fracture'" + tail);
@@ -673,4 +675,33 @@ TEST(BodySpec, ParallelDistributed)
   EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
                                "erosion plastic_strain 2"),
             "keyword 'parallel distributed' does not work with 'erosion'" + tail);
+}
+
+// Without 'parallel' the body's size chooses (kDistributedMinElements), unless it uses what
+// distributed bodies refuse; an explicit choice stands whatever the size.
+TEST(BodySpec, ParallelChosenBySize)
+{
+  const std::string body = std::string(kBody) + " ";
+  bool distributed = true;
+  BodySpec s = parse(body);
+  check_body_spec(s, BodySpecHost{}, 4, 3);
+  const std::string small = parallel_choice(s, kDistributedMinElements, distributed);
+  EXPECT_FALSE(distributed);
+  EXPECT_NE(small.find("parallel replicated (by default: 20000 elements <= 20000"),
+            std::string::npos)
+      << small;
+  const std::string big = parallel_choice(s, kDistributedMinElements + 1, distributed);
+  EXPECT_TRUE(distributed);
+  EXPECT_NE(big.find("parallel distributed (by default: 20001 elements > 20000"), std::string::npos)
+      << big;
+  s = parse(body + "material rankine strength 3e6 fracture_energy 100 fracture nodal");
+  check_body_spec(s, BodySpecHost{}, 4, 3);
+  EXPECT_NE(parallel_choice(s, 1000000, distributed).find("uses 'fracture'"), std::string::npos);
+  EXPECT_FALSE(distributed);
+  s = parse(body + "parallel replicated");
+  EXPECT_EQ(parallel_choice(s, 1000000, distributed), "");
+  EXPECT_FALSE(distributed);
+  s = parse(body + "parallel distributed");
+  EXPECT_EQ(parallel_choice(s, 10, distributed), "");
+  EXPECT_TRUE(distributed);
 }

@@ -5,6 +5,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdarg>
+#include <exception>
 #include <stdexcept>
 
 #include "contact/contact_resolution.h"
@@ -128,8 +129,13 @@ void BodyDriver::warn(const std::string& text) const
 void BodyDriver::build(int dimension)
 {
   dimension_ = dimension;
-  if (spec_->distributed && host_.nprocs > 1) return build_distributed(dimension);
-  build_body(*spec_, dimension, body_);
+  Mesh whole; // rank 0's placed mesh, when it read it to distribute it or to choose
+  bool have_whole = false;
+  if (choose_distributed(dimension, whole, have_whole)) return build_distributed(whole);
+  if (have_whole)
+    build_body_from_mesh(*spec_, std::move(whole), body_);
+  else
+    build_body(*spec_, dimension, body_);
   global_nodes_ = body_.num_nodes();
   global_elems_ = body_.mesh().num_elems();
   // Every rank holds the whole body (replicated). The element work of a material without
@@ -144,6 +150,45 @@ void BodyDriver::build(int dimension)
   note_uncut_quads();
 }
 
+// Whether the body is distributed: asked ('parallel distributed'), or chosen by its size where
+// the spec leaves it to set-up (parallel_choice, logged). Where it may be distributed, rank 0
+// alone reads the mesh (into whole) and tells the others (one max_int at set-up); a mesh that
+// rank 0 cannot read leaves the body replicated here, so that every rank reads it and stops with
+// the same error.
+bool BodyDriver::choose_distributed(int dimension, Mesh& whole, bool& have_whole)
+{
+  if (host_.nprocs <= 1) return false;
+  const bool capable = host_.shared_sum_for && host_.scatter;
+  const bool asked = spec_->have_parallel && spec_->distributed;
+  if (asked && !capable)
+    fail(prefix() + "keyword 'parallel distributed' is not available under this host; use "
+                    "'parallel replicated'");
+  if (spec_->have_parallel && !asked) return false;
+  if (!asked && (!capable || distributed_refusal(*spec_))) {
+    bool unused = false;
+    if (capable) print(prefix() + parallel_choice(*spec_, 0, unused) + "\n");
+    return false;
+  }
+  int choice = 0;
+  std::string why;
+  std::exception_ptr error;
+  if (host_.rank == 0) {
+    try {
+      whole = placed_body_mesh(*spec_, dimension);
+      have_whole = true;
+      bool distributed = false;
+      why = parallel_choice(*spec_, whole.num_elems(), distributed);
+      choice = distributed ? 1 : 0;
+    } catch (const SpecError&) {
+      error = std::current_exception();
+    }
+  }
+  host_.max_int(&choice, 1);
+  if (error) std::rethrow_exception(error);
+  if (!why.empty()) print(prefix() + why + "\n");
+  return choice == 1;
+}
+
 // fracture nodal min_size cuts tri3 and tet4 elements only: said once when the mesh has quads.
 void BodyDriver::note_uncut_quads() const
 {
@@ -156,18 +201,27 @@ void BodyDriver::note_uncut_quads() const
                  id_.c_str(), quads));
 }
 
-// parallel distributed: this rank's METIS part, its masses summed with the parts that share its
-// nodes. Its element work is all its own (no ranges); the surfaces are the part's (particle
-// contact and contact between bodies are refused for distributed bodies).
-void BodyDriver::build_distributed(int dimension)
+// parallel distributed: this rank's METIS part, which rank 0 alone cuts from the whole mesh
+// (whole, read there) and sends (the whole surface with it: particle contact), its masses summed
+// with the parts that share its nodes. Rank 0 frees the whole mesh before it builds its own part.
+// The part's element work is all its own (no ranges); its surfaces are the part's.
+void BodyDriver::build_distributed(Mesh& whole)
 {
-  if (!host_.shared_sum_for)
-    fail(prefix() + "keyword 'parallel distributed' is not available under this host; use "
-                    "'parallel replicated'");
   distributed_ = true;
+  std::vector<int> elem_part;
+  std::vector<double> packed_surface;
+  if (host_.rank == 0) {
+    elem_part = partition_elements(whole, host_.nprocs);
+    packed_surface = pack_surface(global_surface(whole, elem_part));
+  }
+  const auto make = [&](int r) { return part_message(whole, elem_part, packed_surface, r); };
+  std::vector<double> message = host_.scatter(make);
+  whole = Mesh();
+  std::vector<int>().swap(elem_part);
+  std::vector<double>().swap(packed_surface);
   GlobalSurface surface;
-  part_ = build_body_part(*spec_, dimension, host_.rank, host_.nprocs, body_, global_nodes_,
-                          global_elems_, &surface);
+  part_ = build_body_part(*spec_, message, body_, global_nodes_, global_elems_, &surface);
+  std::vector<double>().swap(message);
   ghosts_.init(part_, std::move(surface));
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0; // (shared node, neighbouring part) pairs of all parts: the exchange's size
@@ -310,7 +364,7 @@ void BodyDriver::check_time_step(double dt)
 // substeps auto: the FE steps per host step that the stable step dt_stable asks for (at most
 // kMaxSubsteps; beyond, the callers' checks of the FE step stop or warn as dt_check says); a
 // change is logged. step < 0: at set-up. Every replica (and every part of a distributed body,
-// which calls this at set-up only, with the smallest step of the parts) finds the same n.
+// given the smallest step of the parts) finds the same n.
 void BodyDriver::follow_stable_step(std::int64_t step, double dt, double dt_stable)
 {
   if (spec_->substeps != kSubstepsAuto || spec_->rigid) return;
@@ -563,14 +617,16 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
 
 // Elements squeezed by the deformation (impact, plastic flow) shorten the stable step that set-up
 // measured: under 'substeps auto' the FE steps per host step follow it (up or down); a step still
-// too large is warned once, with the figures, before the run loses stability. Each rank checks
-// what it holds (a distributed body its part, which cannot agree on a new n without a
-// collective: its n stays that of set-up).
+// too large is warned once, with the figures, before the run loses stability. A distributed body
+// following the step takes the smallest of its parts' steps (one min-reduction every
+// kStableStepCheckEvery steps, entered by every rank at the same step), so that every rank
+// sub-cycles alike; otherwise each rank checks what it holds (a part warns by itself).
 void BodyDriver::check_squeezed(std::int64_t step, double dt)
 {
-  const bool follow = spec_->substeps == kSubstepsAuto && !distributed_;
+  const bool follow = spec_->substeps == kSubstepsAuto;
   if (warned_squeezed_ && !follow) return;
-  const double now = stable_time_step_after_erosion(body_, spec_->erosion);
+  double now = stable_time_step_after_erosion(body_, spec_->erosion);
+  if (follow && distributed_) host_.min(&now, 1);
   if (follow) follow_stable_step(step, dt, now);
   if (!(now < dt / substeps_) || warned_squeezed_) return;
   warned_squeezed_ = true;
@@ -579,7 +635,7 @@ void BodyDriver::check_squeezed(std::int64_t step, double dt)
              "is %g < %s (%g at set-up): its elements have been squeezed and the run can lose "
              "stability (an element inverts or the energy grows); reduce 'timestep'",
              id_.c_str(), step, now, step_text(dt).c_str(), dt_stable_);
-  if (distributed_ || host_.rank == 0) host_.warning(text);
+  if ((distributed_ && !follow) || host_.rank == 0) host_.warning(text);
 }
 
 // Once per run: a particle hits the body faster than the time step can follow (every rank

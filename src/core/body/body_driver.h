@@ -41,6 +41,10 @@ struct BodyHost {
   // Every rank's values, in rank order, on rank 0 (empty on the others): the restart record of a
   // distributed body. Entered by every rank. Unset: one rank (its own values).
   std::function<std::vector<double>(const std::vector<double>&)> gather;
+  // Rank 0 makes each rank's values (make(r), called on rank 0 only, one rank at a time, so that it
+  // holds one message at a time) and sends them; every rank returns its own: the parts of a
+  // distributed body, which rank 0 alone reads. Entered by every rank. Unset: make(0).
+  std::function<std::vector<double>(const std::function<std::vector<double>(int)>& make)> scatter;
   // Every rank's values (the same count on each), in rank order, on every rank: the particle and
   // surface boxes of a distributed body, exchanged when the host re-neighbours.
   std::function<std::vector<double>(const std::vector<double>&)> all_gather;
@@ -204,7 +208,8 @@ private:
                           bool count_work);
   void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
   double distributed_vector_entry(int i);
-  void build_distributed(int dimension);
+  void build_distributed(Mesh& whole);
+  bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
   // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state.
   void read_head(const double* head, int n, const double* (&state)[2], size_t (&size)[2]);

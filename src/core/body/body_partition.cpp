@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace fracdem
@@ -29,9 +30,13 @@ balance::Graph element_dual_graph(const Mesh& mesh, const std::vector<int64_t>& 
   std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) {
     return std::tie(a.key, a.elem) < std::tie(b.key, b.elem);
   });
+  // The facet list is the largest array here: gone before the graph is built (peak memory of
+  // the rank that partitions a big mesh).
   std::vector<balance::WeightedPair> pairs;
+  pairs.reserve(all.size() / 2);
   for (size_t i = 0; i + 1 < all.size(); ++i)
     if (all[i].key == all[i + 1].key) pairs.push_back({all[i].elem, all[i + 1].elem, 1});
+  std::vector<Entry>().swap(all);
   std::vector<int64_t> weight(ne);
   for (int e = 0; e < ne; ++e)
     weight[e] = element_weight.empty() ? points_per_elem(mesh.etype[e]) : element_weight[e];
@@ -139,6 +144,124 @@ MeshPart extract_part(const Mesh& mesh, const std::vector<int>& elem_part, int p
       if (p.sharers[s] != part) shared_with[p.sharers[s]].push_back(n);
   for (auto& [q, nodes] : shared_with)
     p.neighbours.push_back({q, std::move(nodes)});
+  return p;
+}
+
+namespace
+{
+// Integers and their lists as doubles, and back (bounds checked on the way back).
+void put_ints(std::vector<double>& out, const std::vector<int>& v)
+{
+  out.push_back(static_cast<double>(v.size()));
+  out.insert(out.end(), v.begin(), v.end());
+}
+
+void put_sets(std::vector<double>& out, const std::map<std::string, std::vector<int>>& sets)
+{
+  out.push_back(static_cast<double>(sets.size()));
+  for (const auto& [name, ids] : sets) {
+    out.push_back(static_cast<double>(name.size()));
+    out.insert(out.end(), name.begin(), name.end());
+    put_ints(out, ids);
+  }
+}
+
+struct Reader {
+  const std::vector<double>& in;
+  std::size_t& at;
+  const double* take(std::size_t n)
+  {
+    if (n > in.size() || at > in.size() - n)
+      throw std::runtime_error("a body part's message is shorter than its contents");
+    at += n;
+    return in.data() + at - n;
+  }
+  int number() { return static_cast<int>(*take(1)); }
+  std::size_t count() { return static_cast<std::size_t>(*take(1)); }
+  std::vector<int> ints()
+  {
+    const std::size_t n = count();
+    const double* p = take(n);
+    return std::vector<int>(p, p + n);
+  }
+  std::vector<double> doubles()
+  {
+    const std::size_t n = count();
+    const double* p = take(n);
+    return std::vector<double>(p, p + n);
+  }
+  std::map<std::string, std::vector<int>> sets()
+  {
+    std::map<std::string, std::vector<int>> out;
+    for (std::size_t k = count(); k > 0; --k) {
+      const std::size_t n = count();
+      const double* p = take(n);
+      std::string name(n, ' ');
+      for (std::size_t i = 0; i < n; ++i)
+        name[i] = static_cast<char>(p[i]);
+      out[name] = ints();
+    }
+    return out;
+  }
+};
+} // namespace
+
+void pack_part(const MeshPart& part, std::vector<double>& out)
+{
+  const Mesh& m = part.mesh;
+  out.insert(out.end(), {static_cast<double>(part.part), static_cast<double>(part.nparts),
+                         static_cast<double>(m.dim), static_cast<double>(m.num_elems())});
+  out.push_back(static_cast<double>(m.X.size()));
+  out.insert(out.end(), m.X.begin(), m.X.end());
+  for (int e = 0; e < m.num_elems(); ++e) {
+    out.push_back(static_cast<double>(m.etype[e]));
+    out.push_back(m.active[e]);
+    out.push_back(m.region[e]);
+    out.insert(out.end(), m.conn[e].begin(), m.conn[e].end());
+  }
+  put_sets(out, m.node_sets);
+  put_sets(out, m.elem_sets);
+  put_ints(out, part.global_node);
+  put_ints(out, part.global_elem);
+  out.push_back(static_cast<double>(part.neighbours.size()));
+  for (const PartNeighbour& nb : part.neighbours) {
+    out.push_back(nb.part);
+    put_ints(out, nb.nodes);
+  }
+  put_ints(out, part.sharer_start);
+  put_ints(out, part.sharers);
+}
+
+MeshPart unpack_part(const std::vector<double>& in, std::size_t& at)
+{
+  Reader r{in, at};
+  MeshPart p;
+  p.part = r.number();
+  p.nparts = r.number();
+  Mesh& m = p.mesh;
+  m.dim = r.number();
+  const int ne = r.number();
+  m.X = r.doubles();
+  for (int e = 0; e < ne; ++e) {
+    const double* v = r.take(7);
+    m.etype.push_back(static_cast<ElemType>(static_cast<int>(v[0])));
+    m.active.push_back(static_cast<std::uint8_t>(v[1]));
+    m.region.push_back(static_cast<int>(v[2]));
+    m.conn.push_back({static_cast<int>(v[3]), static_cast<int>(v[4]), static_cast<int>(v[5]),
+                      static_cast<int>(v[6])});
+  }
+  m.node_sets = r.sets();
+  m.elem_sets = r.sets();
+  p.global_node = r.ints();
+  p.global_elem = r.ints();
+  for (std::size_t k = r.count(); k > 0; --k) {
+    PartNeighbour nb;
+    nb.part = r.number();
+    nb.nodes = r.ints();
+    p.neighbours.push_back(std::move(nb));
+  }
+  p.sharer_start = r.ints();
+  p.sharers = r.ints();
   return p;
 }
 

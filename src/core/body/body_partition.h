@@ -52,6 +52,12 @@ struct MeshPart {
 // Part `part` of `mesh` under the element partition elem_part (partition_elements).
 MeshPart extract_part(const Mesh& mesh, const std::vector<int>& elem_part, int part);
 
+// A part as doubles (its integers are exact in a double), appended to out: the message in which
+// rank 0, which alone reads the mesh, sends a rank its part (parallel distributed set-up).
+void pack_part(const MeshPart& part, std::vector<double>& out);
+// The part packed at in[at..]; at moves past it. Throws std::runtime_error on a short message.
+MeshPart unpack_part(const std::vector<double>& in, std::size_t& at);
+
 // Sums per-node vectors (`width` doubles per node: 3 for forces, 1 for masses) over the parts
 // that share each node, in ascending part order, so that every sharer holds the same bits and the
 // sum does not depend on which rank computes it. Each neighbour gets `width` doubles per node the

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "fem/node_split.h"
 #include "io/gmsh_reader.h"
@@ -16,8 +18,9 @@ namespace fracdem
 namespace
 {
 
-// The spec's mesh, read for a run of `dimension` and placed by scale/move/rotate.
-Mesh placed_mesh(const BodySpec& spec, int dimension)
+} // namespace
+
+Mesh placed_body_mesh(const BodySpec& spec, int dimension)
 {
   Mesh mesh;
   try {
@@ -43,13 +46,9 @@ Mesh placed_mesh(const BodySpec& spec, int dimension)
   return mesh;
 }
 
-} // namespace
-
-namespace
-{
 // The body of a (placed) mesh: material, conditions, motion (the names of velocity groups are
 // checked now, the velocities applied at the run).
-void build_from_mesh(const BodySpec& spec, Mesh mesh, Body& body)
+void build_body_from_mesh(const BodySpec& spec, Mesh mesh, Body& body)
 {
   const std::string material_error = material_setup_error(spec.material, mesh.dim);
   if (!material_error.empty()) throw SpecError(material_error, true);
@@ -68,28 +67,121 @@ void build_from_mesh(const BodySpec& spec, Mesh mesh, Body& body)
   for (const NodeVelocitySpec& s : spec.initial_velocity)
     body_node_set(body, spec, s.set, "velocity"); // names checked now, applied at the run
 }
-} // namespace
-
 void build_body(const BodySpec& spec, int dimension, Body& body)
 {
-  build_from_mesh(spec, placed_mesh(spec, dimension), body);
+  build_body_from_mesh(spec, placed_body_mesh(spec, dimension), body);
 }
 
-MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
+std::vector<double> pack_surface(const GlobalSurface& s)
+{
+  std::vector<double> out = {static_cast<double>(s.facets.size())};
+  for (size_t f = 0; f < s.facets.size(); ++f) {
+    const Facet& fc = s.facets[f];
+    out.insert(out.end(),
+               {double(fc.n[0]), double(fc.n[1]), double(fc.n[2]), double(fc.nn), double(fc.elem),
+                double(fc.local_face), double(s.part[f]), double(s.piece[f])});
+    out.insert(out.end(), &s.ref_normal[3 * f], &s.ref_normal[3 * f] + 3);
+  }
+  out.push_back(static_cast<double>(s.nodes.size()));
+  for (size_t k = 0; k < s.nodes.size(); ++k) {
+    out.push_back(s.nodes[k]);
+    out.insert(out.end(), &s.X[3 * k], &s.X[3 * k] + 3);
+    out.push_back(s.area[k]);
+  }
+  return out;
+}
+
+GlobalSurface unpack_surface(const std::vector<double>& in, std::size_t& at)
+{
+  auto take = [&](std::size_t n) {
+    if (n > in.size() || at > in.size() - n)
+      throw std::runtime_error("a body part's message is shorter than its surface");
+    at += n;
+    return in.data() + at - n;
+  };
+  GlobalSurface s;
+  const auto nf = static_cast<std::size_t>(*take(1));
+  for (std::size_t f = 0; f < nf; ++f) {
+    const double* v = take(11);
+    Facet fc;
+    fc.n = {int(v[0]), int(v[1]), int(v[2])};
+    fc.nn = int(v[3]);
+    fc.elem = int(v[4]);
+    fc.local_face = int(v[5]);
+    s.facets.push_back(fc);
+    s.part.push_back(int(v[6]));
+    s.piece.push_back(int(v[7]));
+    s.ref_normal.insert(s.ref_normal.end(), v + 8, v + 11);
+  }
+  const auto nn = static_cast<std::size_t>(*take(1));
+  for (std::size_t k = 0; k < nn; ++k) {
+    const double* v = take(5);
+    s.nodes.push_back(int(v[0]));
+    s.X.insert(s.X.end(), v + 1, v + 4);
+    s.area.push_back(v[4]);
+  }
+  return s;
+}
+
+std::vector<double> part_message(const Mesh& whole, const std::vector<int>& elem_part,
+                                 const std::vector<double>& packed_surface, int rank)
+{
+  std::vector<double> out = {static_cast<double>(whole.num_nodes()),
+                             static_cast<double>(whole.num_elems())};
+  pack_part(extract_part(whole, elem_part, rank), out);
+  out.insert(out.end(), packed_surface.begin(), packed_surface.end());
+  return out;
+}
+
+MeshPart build_body_part(const BodySpec& spec, const std::vector<double>& message, Body& body,
                          int& global_nodes, int& global_elems, GlobalSurface* surface)
 {
-  const Mesh mesh = placed_mesh(spec, dimension);
-  global_nodes = mesh.num_nodes();
-  global_elems = mesh.num_elems();
-  const std::vector<int> elem_part = partition_elements(mesh, nprocs);
-  MeshPart part = extract_part(mesh, elem_part, rank);
-  if (surface) *surface = global_surface(mesh, elem_part);
-  build_from_mesh(spec, part.mesh, body);
+  MeshPart part;
+  try {
+    std::size_t at = 2;
+    if (message.size() < at) throw std::runtime_error("empty body part message");
+    global_nodes = static_cast<int>(message[0]);
+    global_elems = static_cast<int>(message[1]);
+    part = unpack_part(message, at);
+    if (surface) *surface = unpack_surface(message, at);
+  } catch (const std::runtime_error& e) {
+    throw SpecError(std::string("keyword 'parallel distributed': ") + e.what(), true);
+  }
+  build_body_from_mesh(spec, part.mesh, body);
   std::vector<std::uint8_t> owned(part.num_nodes());
   for (int n = 0; n < part.num_nodes(); ++n)
     owned[n] = part.owns(n);
   body.set_counted_nodes(std::move(owned));
   return part;
+}
+
+MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
+                         int& global_nodes, int& global_elems, GlobalSurface* surface)
+{
+  const Mesh whole = placed_body_mesh(spec, dimension);
+  const std::vector<int> elem_part = partition_elements(whole, nprocs);
+  const std::vector<double> packed =
+      surface ? pack_surface(global_surface(whole, elem_part)) : std::vector<double>{0.0, 0.0};
+  return build_body_part(spec, part_message(whole, elem_part, packed, rank), body, global_nodes,
+                         global_elems, surface);
+}
+
+std::string parallel_choice(const BodySpec& spec, long long elements, bool& distributed)
+{
+  distributed = spec.distributed;
+  if (spec.have_parallel) return "";
+  distributed = false;
+  const char* refused = distributed_refusal(spec);
+  if (refused)
+    return std::string("parallel replicated (by default: the body uses ") + refused +
+           ", which distributed bodies do not do yet)";
+  distributed = elements > kDistributedMinElements;
+  const std::string n = std::to_string(elements), limit = std::to_string(kDistributedMinElements);
+  if (distributed)
+    return "parallel distributed (by default: " + n + " elements > " + limit +
+           "; 'parallel replicated' keeps the whole body on every rank)";
+  return "parallel replicated (by default: " + n + " elements <= " + limit +
+         "; 'parallel distributed' splits it)";
 }
 
 std::vector<int> body_node_set(const Body& body, const BodySpec& spec, const std::string& name,

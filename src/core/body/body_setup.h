@@ -1,6 +1,7 @@
 // Host-independent set-up of fix fem/body's Body from a BodySpec, node sets, step and vector texts.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -16,13 +17,40 @@ namespace fracdem
 // motion, bulk viscosity, fixed and prescribed nodes; initial-velocity sets checked. Throws
 // SpecError (mesh errors name the fix).
 void build_body(const BodySpec& spec, int dimension, Body& body);
-// parallel distributed: every rank reads and places the whole mesh, partitions it the same way
-// (partition_elements) and builds its own part's body, which counts only the nodes it owns. The
-// part's masses at shared nodes are its own elements' share until the host sums them. Returns
-// the part; global_nodes / global_elems: the whole body's counts.
-// surface (optional): the whole body's surface and its facets' parts (particle contact).
+// The spec's mesh, read for a run of `dimension` and placed by scale/move/rotate; throws
+// SpecError. build_body(spec, d, b) is build_body_from_mesh(spec, placed_body_mesh(spec, d), b).
+Mesh placed_body_mesh(const BodySpec& spec, int dimension);
+void build_body_from_mesh(const BodySpec& spec, Mesh mesh, Body& body);
+
+// parallel distributed: rank 0 alone reads and places the whole mesh, partitions its elements
+// (partition_elements), derives the whole surface once (global_surface, packed by pack_surface)
+// and sends each rank its set-up message (part_message): the body's node and element counts,
+// the rank's part (extract_part: the same part as if the rank had partitioned the mesh itself)
+// and the surface. The rank builds its part's body from it (build_body_part), which counts only
+// the nodes it owns; its masses at shared nodes are its own elements' share until the host sums
+// them.
+std::vector<double> pack_surface(const GlobalSurface& surface);
+GlobalSurface unpack_surface(const std::vector<double>& in, std::size_t& at);
+std::vector<double> part_message(const Mesh& whole, const std::vector<int>& elem_part,
+                                 const std::vector<double>& packed_surface, int rank);
+// Returns the part; global_nodes / global_elems: the whole body's counts; surface (optional):
+// the whole body's surface and its facets' parts (particle contact). Throws SpecError.
+MeshPart build_body_part(const BodySpec& spec, const std::vector<double>& message, Body& body,
+                         int& global_nodes, int& global_elems, GlobalSurface* surface = nullptr);
+// All of the above in one process (rank `rank` of `nprocs` reads the mesh itself).
 MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
                          int& global_nodes, int& global_elems, GlobalSurface* surface = nullptr);
+
+// parallel by size (no 'parallel' keyword): a body is distributed over the ranks when it has more
+// than this many elements and uses nothing distributed bodies refuse (distributed_refusal), else
+// replicated. Measured with bench/distributed_body.py (docs/benchmarks.md): from about 12 000
+// elements on the distributed step is faster at 2 ranks; below, neither wins consistently and a
+// replicated body keeps every feature.
+constexpr int kDistributedMinElements = 20000;
+// Why the body of spec, with `elements` elements, is replicated or distributed when the spec
+// leaves it to the size ("" when the spec chose); distributed: the choice.
+std::string parallel_choice(const BodySpec& spec, long long elements, bool& distributed);
+
 // A node set of the built body: "all" or a physical group of the mesh; keyword: the keyword that
 // names it (error messages). Throws SpecError.
 std::vector<int> body_node_set(const Body& body, const BodySpec& spec, const std::string& name,

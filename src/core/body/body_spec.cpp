@@ -397,6 +397,7 @@ void parse_energy_file(SpecReader& r, BodySpec& s)
 void parse_parallel(SpecReader& r, BodySpec& s)
 {
   s.distributed = r.either("distributed", "replicated");
+  s.have_parallel = true;
 }
 
 void parse_contact_bodies(SpecReader& r, BodySpec& s)
@@ -569,18 +570,28 @@ void check_erosion(const BodySpec& s)
          "'fracture nodal')");
 }
 
+} // namespace
+
+const char* distributed_refusal(const BodySpec& s)
+{
+  return s.rigid                ? "'rigid yes'"
+         : s.fracture_every > 0 ? "'fracture'"
+         : s.erosion.on()       ? "'erosion'"
+         : s.contact_bodies > 0 ? "'contact_bodies yes'"
+                                : nullptr;
+}
+
+namespace
+{
+
 // What a distributed body does not do yet (docs/distributed_bodies.md): each refused by name.
 void check_distributed(const BodySpec& s)
 {
   if (!s.distributed) return;
-  const char* what = s.rigid                ? "'rigid yes'"
-                     : s.fracture_every > 0 ? "'fracture'"
-                     : s.erosion.on()       ? "'erosion'"
-                     : s.contact_bodies > 0 ? "'contact_bodies yes'"
-                                            : nullptr;
+  const char* what = distributed_refusal(s);
   if (what)
     fail(std::string("keyword 'parallel distributed' does not work with ") + what +
-         " yet; use 'parallel replicated' (the default)");
+         " yet; use 'parallel replicated'");
 }
 
 // Defaults that depend on other settings, and the keywords they make meaningless.

@@ -93,8 +93,10 @@ struct BodySpec {
   std::string energy_file;
   int energy_every = 0;
   // parallel replicated|distributed: every rank holds the whole body, or one METIS part of it
-  // (docs/distributed_bodies.md).
+  // (docs/distributed_bodies.md). Not given (have_parallel false): chosen at set-up by the
+  // body's size (body_setup.h parallel_choice).
   bool distributed = false;
+  bool have_parallel = false;
 
   // Index of the reaction account of a node group (one per group name, in order of appearance).
   int reaction_group(const std::string& set);
@@ -160,5 +162,7 @@ BodySpec parse_body_spec(const std::vector<std::string>& words, const BodySpecHo
 // Checks the whole spec against the run (atom types 1..ntypes, dimension 2|3) and resolves the
 // defaults (compliance, bulk viscosity, contact_bodies, a rigid body's density). Throws SpecError.
 void check_body_spec(BodySpec& spec, const BodySpecHost& host, int ntypes, int dimension);
+// What of the (checked) spec a distributed body does not do yet ("'fracture'", ...), or null.
+const char* distributed_refusal(const BodySpec& spec);
 
 } // namespace fracdem

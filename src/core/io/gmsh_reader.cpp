@@ -699,6 +699,16 @@ Mesh read_gmsh(const std::string& path, int dim)
   std::unordered_map<ElemKey, int, ElemKeyHash> seen;
   std::vector<long long> conn_tags; // 4 per body element, -1 padded
   std::vector<long> body_line;      // file line of each body element
+  // Sized once: grown by doubling, these would hold up to twice their size (three times while
+  // moving), the largest share of the reader's peak memory on a big mesh.
+  const std::size_t ne_body = static_cast<std::size_t>(count[body]);
+  seen.reserve(ne_body);
+  conn_tags.reserve(4 * ne_body);
+  body_line.reserve(ne_body);
+  mesh.etype.reserve(ne_body);
+  mesh.conn.reserve(ne_body);
+  mesh.active.reserve(ne_body);
+  mesh.region.reserve(ne_body);
   for (std::size_t r = 0; r < ne_raw; ++r) {
     const GmshType& t = *raw.etype[r];
     if (t.dim != body) continue;
@@ -741,6 +751,8 @@ Mesh read_gmsh(const std::string& path, int dim)
     mesh.region.push_back(raw.ephys_off[r + 1] > raw.ephys_off[r] ? raw.ephys[raw.ephys_off[r]]
                                                                   : 0);
   }
+
+  decltype(seen)().swap(seen);
 
   // ---- nodes: those of body elements, by increasing tag ---------------------
   std::vector<long long> tags;
