@@ -322,7 +322,8 @@ void BodyDriver::configure_scene()
     }
   }
   SceneComm comm{host_.rank, host_.nprocs, host_.sum,
-                 [this](const std::string& line) { print(prefix() + line); }};
+                 // repartitions can come every check: the log file only
+                 [this](const std::string& line) { print(prefix() + line, false, true); }};
   try {
     scene_owned_->configure(std::move(members), std::move(pairs), balance, std::move(comm));
   } catch (const std::exception& e) {
