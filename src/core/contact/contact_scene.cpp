@@ -114,7 +114,7 @@ void ContactScene::gather_positions(const std::vector<ContactBodyState>& states)
 // nodes are inflated by reach each, so the search holds every such pair as long as the node and
 // the facet's nodes approached by at most reach since: each moved by at most half of it (paper
 // eqs. 1-2 with l_buff = reach / 2).
-bool ContactScene::search_due(const std::vector<ContactBodyState>&) const
+bool ContactScene::search_due() const
 {
   return 2 * search_.node_travel(sx_.data(), node_off_.back()) > reach_;
 }
@@ -205,7 +205,7 @@ int ContactScene::evaluate_body(int i, const std::vector<ContactBodyState>& stat
     searched_step_ = step;
   } else if (step != searched_step_) {
     gather_positions(states);
-    if (search_due(states)) search(states);
+    if (search_due()) search(states);
     searched_step_ = step;
   }
   int contacts = 0;

@@ -97,7 +97,7 @@ public:
 private:
   void renumber();
   void search(const std::vector<ContactBodyState>& states);
-  bool search_due(const std::vector<ContactBodyState>& states) const;
+  bool search_due() const;
   void gather_positions(const std::vector<ContactBodyState>& states);
   std::vector<double> apriori_weights() const;
   void repartition(const std::vector<double>& weights, std::int64_t step, const char* why,
