@@ -248,6 +248,26 @@ TEST(BodySpec, CheckErosion)
   EXPECT_EQ(check_error(rankine + " fracture nodal erosion_mass remove"), "");
 }
 
+TEST(BodySpec, ContactBalanceKeyword)
+{
+  const BodySpec d = parse("contact_bodies yes");
+  EXPECT_FALSE(d.have_contact_balance);
+  EXPECT_EQ(d.contact_balance.model, ContactBalance::APosteriori);
+  EXPECT_EQ(d.contact_balance.thresh, 1.1);
+  EXPECT_EQ(d.contact_balance.every, 10);
+  EXPECT_EQ(d.contact_balance.parts, 0);
+  const BodySpec s =
+      parse("contact_bodies yes contact_balance a_priori every 5 parts 4 file b.csv thresh 1.3 "
+            "contact_penalty 0.2");
+  EXPECT_TRUE(s.have_contact_balance);
+  EXPECT_EQ(s.contact_balance.model, ContactBalance::APriori);
+  EXPECT_EQ(s.contact_balance.thresh, 1.3);
+  EXPECT_EQ(s.contact_balance.every, 5);
+  EXPECT_EQ(s.contact_balance.parts, 4);
+  EXPECT_EQ(s.contact_balance.file, "b.csv");
+  EXPECT_EQ(s.contact_penalty, 0.2); // the options end where the next keyword starts
+}
+
 TEST(BodySpec, ContactAndRunKeywords)
 {
   const BodySpec s =
@@ -355,6 +375,17 @@ TEST(BodySpec, OutOfRangeAndBadWords)
       {"compliance both", "keyword 'compliance' expects particle or combined"},
       {"contact_bodies 1", "keyword 'contact_bodies' expects yes or no"},
       {"contact_edges 1", "keyword 'contact_edges' expects yes or no"},
+      {"contact_balance", "keyword 'contact_balance' expects a_priori or a_posteriori"},
+      {"contact_balance metis",
+       "keyword 'contact_balance' got 'metis', expected a_priori or a_posteriori"},
+      {"contact_balance a_posteriori thresh 0.9",
+       "keyword 'contact_balance': 'thresh' expects B >= 1 (max / mean of the ranks' contact "
+       "work)"},
+      {"contact_balance a_priori every 0",
+       "keyword 'contact_balance': 'every' expects a step count >= 1"},
+      {"contact_balance a_priori parts 0",
+       "keyword 'contact_balance': 'parts' expects a count >= 1"},
+      {"contact_balance a_priori parts", "keyword 'contact_balance': 'parts' expects a value"},
       {"rotate axis 0 0 0 angle 10",
        "keyword 'rotate' got axis 0 0 0, expected a non-zero axis direction ax ay az"},
       {"rotate axes 0 0 1 angle 10", "keyword 'rotate' expects 'axis ax ay az angle DEGREES'"},
@@ -400,7 +431,7 @@ TEST(BodySpec, UnknownKeywordAndHeader)
 TEST(BodySpec, KeywordTableListsEveryKeywordOnce)
 {
   const std::vector<std::string> k = body_keywords();
-  EXPECT_EQ(k.size(), 34u);
+  EXPECT_EQ(k.size(), 35u);
   for (std::size_t i = 0; i < k.size(); ++i)
     for (std::size_t j = i + 1; j < k.size(); ++j)
       EXPECT_NE(k[i], k[j]);
@@ -480,6 +511,8 @@ TEST(BodySpec, CheckRigid)
             "keyword 'bulk_viscosity' applies to deformable bodies; a rigid body does not deform");
   EXPECT_EQ(check_error("type 1 rigid yes contact_bodies yes"),
             "keyword 'contact_bodies yes' needs a deformable body");
+  EXPECT_EQ(check_error("type 1 rigid yes contact_balance a_priori"),
+            "keyword 'contact_balance' applies to bodies with 'contact_bodies yes'");
   BodySpec s = parse("type 1 rigid yes");
   check_body_spec(s, {}, 4, 3);
   EXPECT_EQ(s.material.rho, 1.0); // the unused mass of a rigid body

@@ -93,6 +93,18 @@ BodyHost serial_host(std::function<void(const std::string&)> out)
 BodyDriver::~BodyDriver()
 {
   if (energy_fp_) std::fclose(energy_fp_);
+  // A body leaving (unfix) disbands its scene: the others point to none until the next run's
+  // set_partners makes a new one (the first body owns it; the members are in its list).
+  BodyDriver* owner = scene_owner_;
+  if (!owner) return;
+  std::vector<BodyDriver*>& members = owner->scene_members_;
+  for (BodyDriver* m : members) {
+    if (m == this) continue;
+    m->scene_ = nullptr;
+    m->scene_owner_ = nullptr;
+  }
+  if (owner != this)
+    members.erase(std::remove(members.begin(), members.end(), this), members.end());
 }
 
 void BodyDriver::attach(const BodySpec& spec, const std::string& fix_id, BodyHost host)
@@ -305,7 +317,7 @@ SurfaceContactOptions BodyDriver::surface_options(int, double other_E, double fr
   return so;
 }
 
-// This body handles its own pieces and every later body with contact_bodies yes.
+// The first body sets up the scene of all; each keeps its own friction for its pairs.
 void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
                               const std::vector<BodyDriver*>& earlier,
                               const std::function<double(int, int)>& friction)
@@ -313,19 +325,81 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
   const int my_type = spec_->surface_type;
   self_contact_.configure(surface_options(my_type, spec_->material.E, friction(my_type, my_type)));
   self_edges_.configure(self_contact_.options());
-  partners_.clear();
-  partners_.reserve(later.size());
-  for (BodyDriver* other : later) {
-    partners_.emplace_back();
-    partners_.back().other = other;
-    const int t = other->spec_->surface_type;
-    const auto so = surface_options(t, other->spec_->material.E, friction(my_type, t));
-    partners_.back().mine_on_theirs.configure(so);
-    partners_.back().theirs_on_mine.configure(so);
-    partners_.back().edges.configure(so);
+  friction_ = friction;
+  if (!earlier.empty()) {
+    if (spec_->have_contact_balance)
+      fail(prefix() +
+           "keyword 'contact_balance' belongs on the first fix fem/body with "
+           "'contact_bodies yes' (fix " +
+           earlier.front()->id_ + "), which holds the contact scene of all of them");
+    scene_owned_.reset(); // the scene is the first body's, which set it up before this call
+    rebuild_surfaces();
+    return;
   }
-  partner_of_ = earlier;
+  std::vector<BodyDriver*> members = {this};
+  members.insert(members.end(), later.begin(), later.end());
+  // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
+  // gathered first (the new scene starts without a partition).
+  if (scene_owned_ && scene_owned_->size() > 0 && members == scene_members_)
+    for (int m = 0; m < scene_owned_->size(); ++m)
+      scene_owned_->gather_self_state(m);
+  scene_owned_ = std::make_unique<ContactScene>();
+  scene_members_ = members;
+  for (size_t m = 0; m < members.size(); ++m) {
+    members[m]->scene_ = scene_owned_.get();
+    members[m]->scene_owner_ = this;
+    members[m]->scene_index_ = static_cast<int>(m);
+  }
+  scene_pending_ = true;
   rebuild_surfaces();
+}
+
+// At the first evaluation of a run (every body's set_partners has run): the pair (a, b), a < b,
+// takes body a's settings and friction, as body a computed it before the scene.
+void BodyDriver::configure_scene()
+{
+  scene_pending_ = false;
+  const ContactBalance& balance = spec_->contact_balance;
+  if (balance.parts > 1 && host_.nprocs > 1 && balance.parts != host_.nprocs)
+    fail(prefix() + "keyword 'contact_balance': 'parts " + std::to_string(balance.parts) +
+         "' models that many ranks in a one-rank run; under " + std::to_string(host_.nprocs) +
+         " ranks the parts are the ranks (leave 'parts' out)");
+  const size_t n = scene_members_.size();
+  std::vector<SceneMember> members(n);
+  std::vector<SurfaceContactOptions> pairs(n * (n - 1) / 2);
+  for (size_t b = 0; b < n; ++b) {
+    BodyDriver* mb = scene_members_[b];
+    members[b] = {&mb->surface_, &mb->self_contact_,
+                  mb->spec_->contact_edges ? &mb->self_edges_ : nullptr};
+    const int tb = mb->spec_->surface_type;
+    for (size_t a = 0; a < b; ++a) {
+      BodyDriver* ma = scene_members_[a];
+      const int ta = ma->spec_->surface_type;
+      pairs[ContactScene::pair_index(static_cast<int>(a), static_cast<int>(b))] =
+          ma->surface_options(tb, mb->spec_->material.E, ma->friction_(ta, tb));
+    }
+  }
+  SceneComm comm{host_.rank, host_.nprocs, host_.sum,
+                 // repartitions can come every check: the log file only
+                 [this](const std::string& line) { print(prefix() + line, false, true); }};
+  try {
+    scene_owned_->configure(std::move(members), std::move(pairs), balance, std::move(comm));
+  } catch (const std::exception& e) {
+    fail(prefix() + e.what());
+  }
+  const int parts = scene_owned_->parts();
+  if (n > 1 || parts > 1)
+    print(prefix() + format("contact scene of %zu bodies, one search over their surfaces; "
+                            "contact work %s\n",
+                            n,
+                            parts == 1
+                                ? "on one rank"
+                                : format("over %d %s, %s model, thresh %g, every %d", parts,
+                                         host_.nprocs > 1 ? "ranks" : "model parts",
+                                         balance.model == ContactBalance::APriori ? "a priori"
+                                                                                  : "a posteriori",
+                                         balance.thresh, balance.every)
+                                      .c_str()));
 }
 
 void BodyDriver::set_gravity(const double g[3])
@@ -559,9 +633,10 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   // particles; one reduction makes every replica identical.
   int first_inverted = -1;
   const double local_energy = internal_forces(step, dt, first_inverted);
-  // Contact between the body's pieces and with other bodies: taken once, on rank 0, into the
-  // contact forces that the ranks sum.
-  if (spec_->contact_bodies > 0 && host_.rank == 0) body_contacts(dt);
+  // Contact between the body's pieces and with other bodies: each rank takes the surface nodes
+  // of its part of the scene (without a scene, rank 0 all), into the contact forces the ranks
+  // sum.
+  if (spec_->contact_bodies > 0 && (scene_ || host_.rank == 0)) body_contacts(step, dt);
   ParticleFacetResult res;
   if (particles) {
     res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
@@ -766,42 +841,37 @@ void BodyDriver::rebuild_surfaces()
   surface_.build(body_.mesh(), contact_.facets());
   self_contact_.invalidate();
   self_edges_.invalidate();
-  for (Partner& p : partners_) {
-    p.mine_on_theirs.invalidate();
-    p.theirs_on_mine.invalidate();
-    p.edges.invalidate();
-  }
-  for (BodyDriver* other : partner_of_)
-    other->partner_changed(this);
+  if (scene_) scene_->invalidate();
 }
 
-void BodyDriver::partner_changed(BodyDriver* other)
+// This body's pieces and its pairs with the later bodies (forces into their pending arrays,
+// which their own force evaluation takes up). Without a scene (no set_partners: unit tests) the
+// pieces only, on rank 0.
+int BodyDriver::body_contacts(std::int64_t step, double dt)
 {
-  for (Partner& p : partners_)
-    if (p.other == other) {
-      p.mine_on_theirs.invalidate();
-      p.theirs_on_mine.invalidate();
-      p.edges.invalidate();
-    }
-}
-
-int BodyDriver::body_contacts(double dt)
-{
-  ContactBodyState me{body_.positions().data(), body_.velocities().data(), body_.masses().data(),
-                      body_.contact_forces()};
-  int n = self_contact_.evaluate(surface_, me, surface_, me, true, dt);
-  // Edge to edge (3D only: a 2D surface has no edges), where the bodies have it on.
-  if (spec_->contact_edges) n += self_edges_.evaluate(surface_, me, surface_, me, true, dt);
-  for (Partner& p : partners_) {
-    Body& ob = p.other->body_;
-    ContactBodyState them{ob.positions().data(), ob.velocities().data(), ob.masses().data(),
-                          ob.pending_contact_forces()};
-    n += p.mine_on_theirs.evaluate(surface_, me, p.other->surface_, them, false, dt);
-    n += p.theirs_on_mine.evaluate(p.other->surface_, them, surface_, me, false, dt);
-    if (spec_->contact_edges && p.other->spec_->contact_edges)
-      n += p.edges.evaluate(surface_, me, p.other->surface_, them, false, dt);
+  if (!scene_) {
+    ContactBodyState me{body_.positions().data(), body_.velocities().data(), body_.masses().data(),
+                        body_.contact_forces()};
+    int n = self_contact_.evaluate(surface_, me, surface_, me, true, dt);
+    if (spec_->contact_edges) n += self_edges_.evaluate(surface_, me, surface_, me, true, dt);
+    return n;
   }
-  return n;
+  if (scene_owner_->scene_pending_) scene_owner_->configure_scene();
+  const std::vector<BodyDriver*>& members = scene_owner_->scene_members_;
+  std::vector<ContactBodyState> states(members.size());
+  for (size_t m = 0; m < members.size(); ++m) {
+    Body& b = members[m]->body_;
+    const int k = static_cast<int>(m);
+    double* f = k == scene_index_  ? b.contact_forces()
+                : k > scene_index_ ? b.pending_contact_forces()
+                                   : nullptr;
+    states[m] = {b.positions().data(), b.velocities().data(), b.masses().data(), f};
+  }
+  try {
+    return scene_->evaluate_body(scene_index_, states, step, dt);
+  } catch (const std::runtime_error& e) {
+    fail(prefix() + e.what());
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -1172,6 +1242,8 @@ std::vector<double> BodyDriver::distributed_body_record() const
 
 void BodyDriver::write_restart(std::FILE* fp) const
 {
+  // The pieces' contacts are spread over the ranks' parts of the scene: gathered (every rank).
+  if (scene_ && scene_->size() > scene_index_) scene_->gather_self_state(scene_index_);
   if (!distributed_ && host_.rank != 0) return; // a replicated body: rank 0 holds it all
   const std::vector<double> buf = restart_record();
   if (host_.rank != 0) return;

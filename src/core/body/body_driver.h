@@ -5,9 +5,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "contact/contact_scene.h"
 #include "contact/particle_facet.h"
 #include "contact/edge_contact.h"
 #include "contact/surface_contact.h"
@@ -97,9 +99,13 @@ public:
   // ---- set-up of a run ----
   // Particle contact: options (search buffer included) and one material per atom type.
   void configure_contact(const ParticleFacetOptions& options, std::vector<ContactMaterial> mats);
-  // Body-body contact (contact_bodies yes): `later` are the bodies whose contact this one
-  // computes, `earlier` those that compute it with this one; friction(ti, tj) is the Coulomb
-  // coefficient between surfaces of types ti and tj.
+  // Body-body contact (contact_bodies yes): `later` and `earlier` are the other bodies with it
+  // on, in the host's order of calls; friction(ti, tj) is the Coulomb coefficient between
+  // surfaces of types ti and tj (this body's, for its pieces and its pairs with later bodies).
+  // The first body holds the contact scene of all (contact/contact_scene.h): one search over
+  // their surfaces; each body's call of compute_forces evaluates its pieces and its pairs with
+  // the later bodies, every rank the surface nodes of its part. Called by every body, first to
+  // last.
   void set_partners(const std::vector<BodyDriver*>& later, const std::vector<BodyDriver*>& earlier,
                     const std::function<double(int, int)>& friction);
   void set_gravity(const double g[3]);
@@ -157,6 +163,9 @@ public:
   bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }
+  // The contact scene this body belongs to (null: none set up yet) and its index there.
+  const ContactScene* contact_scene() const { return scene_; }
+  int scene_index() const { return scene_index_; }
   // FE steps of the host step under way (or of the first step of a run, after set-up), and of
   // the next host step (changed by the stable step's re-estimates).
   int substeps() const { return step_substeps_; }
@@ -168,11 +177,6 @@ public:
                            const std::vector<int>& batch) const;
 
 private:
-  struct Partner {
-    BodyDriver* other = nullptr;
-    SurfaceContact mine_on_theirs, theirs_on_mine;
-    EdgeContact edges; // 3D, when both bodies have contact_edges yes
-  };
   [[noreturn]] void fail(const std::string& text) const;
   void print(const std::string& line, bool screen = true, bool logfile = true) const;
   void warn(const std::string& text) const; // rank 0
@@ -199,9 +203,9 @@ private:
   void log_fragments(std::int64_t step);
   void warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res);
   void rebuild_surfaces();
-  void partner_changed(BodyDriver* other);
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
-  int body_contacts(double dt);
+  void configure_scene();
+  int body_contacts(std::int64_t step, double dt);
   void write_energy_row(std::int64_t step);
   void write_distributed_energy_row(std::int64_t step);
   void distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
@@ -234,11 +238,18 @@ private:
   std::vector<std::vector<double>> ghost_out_, ghost_in_, ghost_back_, ghost_returned_;
   ParticleFacetContact contact_;
   ContactSurface surface_;
-  SurfaceContact self_contact_;
-  EdgeContact self_edges_;
-  std::vector<Partner> partners_;
-  std::vector<BodyDriver*> partner_of_; // earlier bodies that handle contact with this one
-  FailureMap failure_map_;              // kept between checks: no allocation per check
+  SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
+  EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
+  // Body-body contact: the scene (owned by the first body, which lists the members, configures
+  // it at the first evaluation of a run and keeps the pair settings), this body's index there.
+  std::unique_ptr<ContactScene> scene_owned_;
+  ContactScene* scene_ = nullptr;
+  BodyDriver* scene_owner_ = nullptr;
+  int scene_index_ = -1;
+  std::vector<BodyDriver*> scene_members_;
+  bool scene_pending_ = false;
+  std::function<double(int, int)> friction_;
+  FailureMap failure_map_; // kept between checks: no allocation per check
   int last_fragments_ = 1;
   double gravity_[3] = {0, 0, 0};
   double dt_stable_ = 0;

@@ -416,6 +416,42 @@ void parse_contact_penalty(SpecReader& r, BodySpec& s)
   if (s.contact_penalty <= 0) fail("keyword 'contact_penalty' must be > 0");
 }
 
+// contact_balance a_priori|a_posteriori [thresh B] [every N] [parts K] [file PATH]
+void parse_contact_balance(SpecReader& r, BodySpec& s)
+{
+  r.need(1, "a_priori or a_posteriori");
+  ContactBalance& b = s.contact_balance;
+  if (r.word(1) == "a_priori")
+    b.model = ContactBalance::APriori;
+  else if (r.word(1) == "a_posteriori")
+    b.model = ContactBalance::APosteriori;
+  else
+    fail("keyword 'contact_balance' got '" + r.word(1) + "', expected a_priori or a_posteriori");
+  std::size_t k = 2;
+  while (r.has(k) && (r.word(k) == "thresh" || r.word(k) == "every" || r.word(k) == "parts" ||
+                      r.word(k) == "file")) {
+    const std::string opt = r.word(k);
+    if (!r.has(k + 1)) fail("keyword 'contact_balance': '" + opt + "' expects a value");
+    if (opt == "thresh") {
+      b.thresh = r.number(k + 1);
+      if (!(b.thresh >= 1.0))
+        fail("keyword 'contact_balance': 'thresh' expects B >= 1 (max / mean of the ranks' "
+             "contact work)");
+    } else if (opt == "every") {
+      b.every = r.whole_number(k + 1);
+      if (b.every < 1) fail("keyword 'contact_balance': 'every' expects a step count >= 1");
+    } else if (opt == "parts") {
+      b.parts = r.whole_number(k + 1);
+      if (b.parts < 1) fail("keyword 'contact_balance': 'parts' expects a count >= 1");
+    } else {
+      b.file = r.word(k + 1);
+    }
+    k += 2;
+  }
+  s.have_contact_balance = true;
+  r.take(k);
+}
+
 // A particle touches a handful of facet features at once; beyond kMaxHistorySlots it is a typo
 // (the history array is per particle and would eat memory).
 void parse_history_slots(SpecReader& r, BodySpec& s)
@@ -467,6 +503,7 @@ const std::vector<Keyword> kKeywords = {
     {"contact_bodies", parse_contact_bodies},
     {"contact_penalty", parse_contact_penalty},
     {"contact_edges", parse_contact_edges},
+    {"contact_balance", parse_contact_balance},
     {"history_slots", parse_history_slots},
     {"parallel", parse_parallel},
 };
@@ -610,6 +647,8 @@ void resolve_defaults(BodySpec& s)
   // other); other bodies opt in, as body-body contact costs serial work every step.
   if (s.contact_bodies < 0) s.contact_bodies = s.fracture_every > 0 ? 1 : 0;
   if (s.contact_bodies && s.rigid) fail("keyword 'contact_bodies yes' needs a deformable body");
+  if (s.have_contact_balance && s.contact_bodies == 0)
+    fail("keyword 'contact_balance' applies to bodies with 'contact_bodies yes'");
   check_erosion(s);
   check_distributed(s);
 }

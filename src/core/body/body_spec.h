@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_scene.h"
 #include "contact/granular_law.h"
 #include "fem/body_motion.h"
 #include "fem/erosion.h"
@@ -83,6 +84,10 @@ struct BodySpec {
   int contact_bodies = -1; // -1: default (yes with fracture, else no)
   double contact_penalty = 0.1;
   bool contact_edges = true; // contact_edges yes|no: edge-to-edge contact (3D) beside node-to-facet
+  // contact_balance: how the contact work of all contact_bodies bodies is shared among ranks
+  // (given on the first of them, which holds the scene).
+  ContactBalance contact_balance;
+  bool have_contact_balance = false;
   // ---- run ----
   bool dt_check_error = true; // dt_check error|warn
   // substeps auto|N|off: FE steps per host step (kSubstepsAuto: as many as the stable step asks

@@ -291,12 +291,28 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
   if (stale_ || search_.needs_rebuild(sxb_.data(), nb, sx_.data(), ns))
     rebuild_search(facets_of, b.x, ns, buffer);
   const auto& cand = search_.candidates();
-  int contacts = 0;
+  return static_cast<int>(
+      resolve(nodes_of, a, facets_of, b, self, dt, cand.data(), cand.size()).contacts);
+}
+
+SurfaceContact::Counts
+SurfaceContact::resolve(const ContactSurface& nodes_of, const ContactBodyState& a,
+                        const ContactSurface& facets_of, const ContactBodyState& b, bool self,
+                        double dt, const std::pair<int, int>* cand, std::size_t ncand,
+                        const int* owner, int part, double* tests, double* contacts)
+{
+  Counts counts;
   size_t c = 0;
-  while (c < cand.size()) {
+  while (c < ncand) {
     const int s = cand[c].first, node = nodes_of.nodes[s];
+    if (owner && owner[s] != part) {
+      while (c < ncand && cand[c].first == s)
+        ++c;
+      continue;
+    }
     Touch best;
-    for (; c < cand.size() && cand[c].first == s; ++c) {
+    const size_t first = c;
+    for (; c < ncand && cand[c].first == s; ++c) {
       const int k = cand[c].second;
       if (self && facets_of.neighbourhood(node, k)) continue;
       Touch t;
@@ -306,6 +322,8 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
         best.facet = k;
       }
     }
+    counts.tests += static_cast<long>(c - first);
+    if (tests) tests[s] += static_cast<double>(c - first);
     if (best.facet >= 0) {
       const Facet& fc = facets_of.facets[best.facet];
       for (int d = 0; d < 3; ++d) {
@@ -315,11 +333,30 @@ int SurfaceContact::evaluate(const ContactSurface& nodes_of, const ContactBodySt
       }
       best.depth = effective_depth(node, best, dt);
       apply(node, best, fc, a, b, dt);
-      ++contacts;
+      ++counts.contacts;
+      if (contacts) contacts[s] += 1.0;
     }
   }
   ++eval_;
-  return contacts;
+  return counts;
+}
+
+void SurfaceContact::import_state(const std::vector<int>& nodes, const double* in)
+{
+  // The imported contacts belong to the last evaluation, as export_state read them.
+  for (size_t s = 0; s < nodes.size(); ++s) {
+    const size_t node = static_cast<size_t>(nodes[s]);
+    if (node >= last_eval_.size()) {
+      if (!(in[3 * s] > 0.5)) continue;
+      last_eval_.resize(node + 1, -1);
+      last_depth_.resize(node + 1, 0.0);
+      offset_.resize(node + 1, 0.0);
+    }
+    const bool on = in[3 * s] > 0.5 && eval_ > 0;
+    last_eval_[node] = on ? eval_ - 1 : -1;
+    last_depth_[node] = on ? in[3 * s + 1] : 0.0;
+    offset_[node] = on ? in[3 * s + 2] : 0.0;
+  }
 }
 
 void SurfaceContact::pack_state(std::vector<double>& out) const

@@ -2,6 +2,7 @@
 // edge in 2D, node to facet in 3D, penalty normal force with Coulomb friction.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "contact/contact_search.h"
@@ -93,12 +94,43 @@ public:
   // neighbourhood excluded). Returns the number of contacts.
   int evaluate(const ContactSurface& nodes_of, const ContactBodyState& a,
                const ContactSurface& facets_of, const ContactBodyState& b, bool self, double dt);
+  // What resolve() did: candidate facets tested and contacts evaluated (forces applied).
+  struct Counts {
+    long tests = 0, contacts = 0;
+  };
+  // evaluate() without its own search: the given candidates (index into nodes_of.nodes, facet
+  // index), sorted by node then facet, as a search over both surfaces (contact/contact_scene.h)
+  // found them. owner (per entry of nodes_of.nodes; null: every node is this caller's): only the
+  // nodes with owner[s] == part are resolved, so that parts that share the candidates evaluate
+  // each contact once. tests / contacts (per node, null: not counted) get each resolved node's
+  // counts added. One call per evaluation on every part (the contacts' continuity counts them).
+  Counts resolve(const ContactSurface& nodes_of, const ContactBodyState& a,
+                 const ContactSurface& facets_of, const ContactBodyState& b, bool self, double dt,
+                 const std::pair<int, int>* cand, std::size_t ncand, const int* owner = nullptr,
+                 int part = 0, double* tests = nullptr, double* contacts = nullptr);
   // The per-node contact state (for restart): appends, for every node in contact at the last
   // evaluation, (node, penetration, offset). After unpack_state of those doubles (a multiple of
   // 3; none: a fresh object) the next evaluate() continues these contacts exactly as this object
   // would; other state (options, search) is not part of it.
   void pack_state(std::vector<double>& out) const;
   void unpack_state(const double* in, size_t n);
+  // The same state densely, 3 doubles per entry of `nodes` (in contact at the last evaluation
+  // 1 / 0, penetration, offset); export_state leaves zeros for the nodes where keep(s) is false,
+  // so that a sum over the parts that each kept their own nodes is the whole state, which
+  // import_state sets (contact/contact_scene.cpp moves contacts between parts this way).
+  template <class Keep>
+  void export_state(const std::vector<int>& nodes, Keep keep, double* out) const
+  {
+    for (size_t s = 0; s < nodes.size(); ++s) {
+      const size_t node = static_cast<size_t>(nodes[s]);
+      const bool on =
+          keep(s) && eval_ > 0 && node < last_eval_.size() && last_eval_[node] == eval_ - 1;
+      out[3 * s] = on ? 1.0 : 0.0;
+      out[3 * s + 1] = on ? last_depth_[node] : 0.0;
+      out[3 * s + 2] = on ? offset_[node] : 0.0;
+    }
+  }
+  void import_state(const std::vector<int>& nodes, const double* in);
 
 private:
   struct Touch {

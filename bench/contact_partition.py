@@ -1,0 +1,132 @@
+"""Work-model speedup of the partitioned body-body contact (the paper's Table 3: a priori vs a
+posteriori graph model at 2, 4 and 6 ranks) on a pile of tri3 blocks.
+
+Scene: 40 plane-strain tri3 blocks (8 rows of 5, 4 x 4 elements of 10 mm, 8 mm apart: farther
+than the search reaches, so the candidates grow where the blocks meet) thrown down at 2 + 0.5 r
+m/s (row r, bottom up, so that each row catches the one below: a pile grows from the floor while
+the upper rows still fly) onto a fixed quad4 floor, time step 10 us; all contact_bodies yes, one
+contact scene. Every run is at one rank with `contact_balance MODEL parts K every 1`:
+the partition of K parts is made exactly as K ranks make it (the ctest
+tests/integration/test_contact_partition.py shows that np 3 and 'parts 3' at np 1 give the same
+per-part work), every node is still evaluated on the rank, and its work (facet tests + contacts,
+counted) is booked to its part. Per step the parallel work is that of the busiest part, so
+
+    work-model speedup = sum over steps of the total work / sum over steps of the largest part's
+
+(counts: the same on any machine; repartitioning and communication are not in it, the paper's
+measured speedups include them).
+
+    python3 bench/contact_partition.py [--exe build/fracdem] [--steps 3000]
+        [--csv bench/results/contact_partition.csv] [--png bench/results/contact_partition.png]
+"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from fracdem import meshgen  # noqa: E402
+
+# Table 3 of the paper (Example 3, the layered ceramic target): speedup at 2, 4, 6 processors.
+PAPER = {"a_priori": {2: 1.82, 4: 3.52, 6: 4.60}, "a_posteriori": {2: 1.86, 4: 3.63, 6: 5.33}}
+ROWS, COLS, SIZE, GAP = 8, 5, 0.04, 0.008
+
+
+def write_case(wd, model, parts, steps, thresh):
+    X, E, G = meshgen.rect_mesh(4, 4, SIZE, SIZE, origin=(0.0, 0.0), element="tri3")
+    meshgen.write_gmsh22(os.path.join(wd, "block.msh"), X, E, G)
+    X, E, G = meshgen.rect_mesh(24, 2, 0.24, 0.02, origin=(0.0, 0.0), element="quad4")
+    meshgen.write_gmsh22(os.path.join(wd, "floor.msh"), X, E, G)
+    lines = [
+        "dimension 2", "atom_style granular", "atom_modify map array", "boundary f f p",
+        "newton off", "communicate single vel yes", "units si",
+        "region box block -0.05 0.3 -0.05 0.45 -0.01 0.01 units box", "create_box 1 box",
+        "neighbor 0.001 bin", "neigh_modify delay 0",
+        "fix m1 all property/global youngsModulus peratomtype 1e7",
+        "fix m2 all property/global poissonsRatio peratomtype 0.3",
+        "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
+        "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
+        "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
+        "variable common string \"type 1 density 1000 youngs 1e7 poisson 0.3 plane strain "
+        "thickness 0.1 contact_bodies yes gravity no\"",
+        f"fix floor all fem/body file floor.msh ${{common}} move -0.01 {-0.02 - GAP} 0 fixed "
+        f"ymin contact_balance {model} thresh {thresh} every 1 parts {parts} file balance.csv",
+    ]
+    for r in range(ROWS):
+        for c in range(COLS):
+            x, y = 0.005 + c * (SIZE + GAP), r * (SIZE + GAP)
+            vx = 0.5 if (r + c) % 2 else -0.5
+            lines.append(f"fix b{r}_{c} all fem/body file block.msh ${{common}} move {x} {y} 0 "
+                         f"velocity all {vx} {-(2.0 + 0.5 * r)} 0")
+    lines += ["thermo 500", f"run {steps}"]
+    with open(os.path.join(wd, "in.pile"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def speedup(path, parts):
+    rows = list(csv.DictReader(open(path)))
+    total = sum(sum(float(r[f"work_{p}"]) for p in range(parts)) for r in rows)
+    busiest = sum(max(float(r[f"work_{p}"]) for p in range(parts)) for r in rows)
+    b = [float(r["imbalance"]) for r in rows if sum(float(r[f"work_{p}"]) for p in range(parts))]
+    contacts = sum(sum(float(r[f"contacts_{p}"]) for p in range(parts)) for r in rows)
+    return {"speedup": total / busiest, "mean_B": sum(b) / len(b), "max_B": max(b),
+            "repartitions": int(rows[-1]["repartitions"]), "searches": int(rows[-1]["searches"]),
+            "work": int(total), "contacts": int(contacts)}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fracdem"))
+    ap.add_argument("--steps", type=int, default=3000)
+    ap.add_argument("--thresh", type=float, default=1.05)
+    ap.add_argument("--csv", default=os.path.join(HERE, "results", "contact_partition.csv"))
+    ap.add_argument("--png", default=os.path.join(HERE, "results", "contact_partition.png"))
+    a = ap.parse_args()
+    results = []
+    for model in ("a_priori", "a_posteriori"):
+        for parts in (2, 4, 6):
+            wd = tempfile.mkdtemp(prefix=f"contact_partition_{model}_{parts}_")
+            write_case(wd, model, parts, a.steps, a.thresh)
+            r = subprocess.run([a.exe, "-echo", "none", "-in", "in.pile"], cwd=wd, text=True,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+            if r.returncode != 0 or "ERROR" in r.stdout:
+                sys.exit(f"{model} parts {parts} failed in {wd}:\n{r.stdout[-3000:]}")
+            row = {"model": model, "parts": parts, **speedup(os.path.join(wd, "balance.csv"),
+                                                            parts),
+                   "paper": PAPER[model][parts]}
+            print(row, flush=True)
+            results.append(row)
+    os.makedirs(os.path.dirname(a.csv), exist_ok=True)
+    with open(a.csv, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(results[0]))
+        w.writeheader()
+        for row in results:
+            w.writerow({k: (f"{v:.4f}" if isinstance(v, float) else v) for k, v in row.items()})
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    ranks = [2, 4, 6]
+    ax.plot(ranks, ranks, "k:", label="ideal")
+    for model, colour in (("a_priori", "tab:blue"), ("a_posteriori", "tab:red")):
+        ours = [r["speedup"] for r in results if r["model"] == model]
+        ax.plot(ranks, ours, "o-", color=colour, label=f"{model} (work model, this pile)")
+        ax.plot(ranks, [PAPER[model][k] for k in ranks], "s--", color=colour, alpha=0.6,
+                label=f"{model} (paper Table 3, measured)")
+    ax.set_xlabel("ranks (parts)")
+    ax.set_ylabel("speedup of the contact work")
+    ax.set_title(f"{ROWS * COLS} tri3 blocks piling up, {a.steps} steps")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(a.png, dpi=120)
+    print("wrote", a.csv, a.png)
+
+
+if __name__ == "__main__":
+    main()
