@@ -44,12 +44,12 @@ DT, EVERY = 2e-5, 50
 Z0 = 0.1514  # A's centre above B's at the start (touching at 2 HALF_DIAG = 0.1414)
 
 
-def run(edges, mu, steps):
+def run(edges, mu, steps, np_=1):
     wd = tempfile.mkdtemp(prefix=f"edge_contact_{edges}_")
     h.make_box_mesh(os.path.join(wd, "a.msh"), (6, 2, 2), (0.3, 0.1, 0.1), (-0.15, -0.05, -0.05))
     h.make_box_mesh(os.path.join(wd, "b.msh"), (2, 6, 2), (0.1, 0.3, 0.1), (-0.05, -0.15, -0.05))
     h.copy_inputs(["in.edge_contact"], wd)
-    out = h.run(args.exe, "in.edge_contact", workdir=wd,
+    out = h.run(args.exe, "in.edge_contact", np_=np_, workdir=wd,
                 variables={"edges": edges, "mu": mu, "steps": steps})
     runs = h.thermo_blocks(out)
     pa, pb = h.column(runs, "a[15]"), h.column(runs, "b[15]")
@@ -91,6 +91,14 @@ for mu in (0.0, 0.3):
                 for k in range(len(ea["kinetic"]))) / e0
     h.check(worst < 0.02, f"mu={mu}: kinetic + strain - contact work within {worst:.2e} of the "
             f"initial energy {e0:.4f} J at every row (< 2 %)")
+
+# Two ranks: the contact scene evaluates the pair's edge contact on every rank and adds its forces
+# on one (pair_part), so np 2 must give np 1's energy files to round-off (1e-10 of column scale).
+_, _, _, _, ea2, eb2 = run("yes", 0.3, 3000, np_=2)
+for name, one, two in (("a", ea, ea2), ("b", eb, eb2)):
+    diff, where = h.worst_scaled(one, two)
+    h.check(diff < 1e-10, f"np 2 vs np 1, body {name}: energy file within {diff:.1e} of the "
+            f"column scale (worst: {where}) < 1e-10")
 
 # Restart while two pieces of one body touch edge on edge: the boxes of 6 x 1 x 1 and 1 x 6 x 1
 # cells (every node on the surface, so the upper piece's faces carry its velocity) placed as
