@@ -1,6 +1,7 @@
 // Unit tests of the contact between the pieces of a body's surface (crack faces, fragments).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -87,6 +88,33 @@ TEST(SurfaceContact, OverlappingPiecesArePushedApartWithBalancedForces)
   EXPECT_NEAR(fb, 6 * k * delta, 1e-9 * k * delta);
   EXPECT_NEAR(fa + fb, 0.0, 1e-12 * k * delta);
   EXPECT_NEAR(fy, 0.0, 1e-12 * k * delta);
+}
+
+TEST(SurfaceContact, FreeNodesOfErodedElementsStillHitSurfaces)
+{
+  // B's two triangles eroded: its four nodes fly on as point masses (erosion_mass keep). The two
+  // on its left side are delta inside A's right face and approaching: each gets k delta along +x,
+  // A the reaction; with their mass removed (erosion_mass remove) nothing is pushed.
+  const double delta = 0.01;
+  Mesh m = two_squares(1, 1.0 - delta);
+  m.active[2] = m.active[3] = 0;
+  const int nn = m.num_nodes();
+  ContactSurface surface;
+  surface.build(m, boundary_facets(m));
+  EXPECT_EQ(surface.nodes, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  std::vector<double> v = approaching(nn, delta, 1e-6), mass(nn, 1.0), f(3 * nn, 0.0);
+  EXPECT_EQ(self_contact(m, 0.0, v, mass, f), 2);
+  const double k = 1e6 * 0.1;
+  double fa = 0, fb = 0;
+  for (int n = 0; n < nn; ++n)
+    (n < nn / 2 ? fa : fb) += f[3 * n];
+  EXPECT_NEAR(fb, 2 * k * delta, 1e-9 * k * delta);
+  EXPECT_NEAR(fa + fb, 0.0, 1e-12 * k * delta);
+  for (int n = nn / 2; n < nn; ++n)
+    mass[n] = 0;
+  std::fill(f.begin(), f.end(), 0.0);
+  EXPECT_EQ(self_contact(m, 0.0, v, mass, f), 0);
+  EXPECT_EQ(*std::max_element(f.begin(), f.end()), 0.0);
 }
 
 TEST(SurfaceContact, TouchingOrSeparatedPiecesAndAnIntactBodyFeelNothing)

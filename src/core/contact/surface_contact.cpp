@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -57,6 +58,7 @@ void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
     reach[k] = 0.5 * altitude;
     max_reach = std::max(max_reach, reach[k]);
   }
+  add_free_nodes(mesh);
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   const int nn = mesh.num_nodes();
@@ -72,6 +74,28 @@ void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
     for (int j = 0; j < facets[k].nn; ++j)
       incident[fill[facets[k].n[j]]++] = k;
   build_edges(X);
+}
+
+// Free nodes: every element around them eroded (erosion_mass keep leaves their mass on them, and
+// they fly on as point masses). They have no facet of their own, so they still hit surfaces as
+// contacting nodes of the body (issue #10: free nodes can still hit surfaces). Nodes of no
+// element at all (none in a mesh as read) are not surface.
+void ContactSurface::add_free_nodes(const Mesh& mesh)
+{
+  const int nn = mesh.num_nodes();
+  std::vector<std::uint8_t> in_elem(nn, 0), in_live(nn, 0);
+  bool eroded = false;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    eroded = eroded || !mesh.active[e];
+    for (int n : mesh.conn[e])
+      if (n >= 0) {
+        in_elem[n] = 1;
+        in_live[n] = in_live[n] || mesh.active[e];
+      }
+  }
+  if (!eroded) return;
+  for (int n = 0; n < nn; ++n)
+    if (in_elem[n] && !in_live[n]) nodes.push_back(n);
 }
 
 // Edges shared by exactly two boundary triangles, sorted by their nodes; feature test on the
@@ -305,7 +329,9 @@ SurfaceContact::resolve(const ContactSurface& nodes_of, const ContactBodyState& 
   size_t c = 0;
   while (c < ncand) {
     const int s = cand[c].first, node = nodes_of.nodes[s];
-    if (owner && owner[s] != part) {
+    // Another part's node, or a free node whose mass left with its elements (erosion_mass
+    // remove): nothing to push.
+    if ((owner && owner[s] != part) || !(a.m[node] > 0)) {
       while (c < ncand && cand[c].first == s)
         ++c;
       continue;

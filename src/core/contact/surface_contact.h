@@ -57,13 +57,14 @@ struct SurfaceEdge {
 struct ContactSurface {
   static constexpr double kFeatureAngleDeg = 30;
   std::vector<Facet> facets;
-  std::vector<int> nodes;                     // boundary nodes, ascending
+  std::vector<int> nodes; // boundary nodes and free nodes (all elements eroded), ascending
   std::vector<int> incident_offset, incident; // per mesh node: boundary facets around it
   std::vector<double> reach; // per facet: deepest accepted contact, half its element altitude
   double max_reach = 0;
   std::vector<SurfaceEdge> edges; // 3D only; sorted by (lower node, higher node)
   double max_edge_reach = 0;      // over the feature edges
   void build(const Mesh& mesh, const std::vector<Facet>& boundary);
+  void add_free_nodes(const Mesh& mesh);
   // Whether `facet` shares a node with a facet around `node` (same body only).
   bool neighbourhood(int node, int facet) const;
 
