@@ -18,10 +18,18 @@ measured speedups include them).
 
     python3 bench/contact_partition.py [--exe build/fracdem] [--steps 3000]
         [--csv bench/results/contact_partition.csv] [--png bench/results/contact_partition.png]
+
+`--scene ceramic` runs the paper's own Example 3 instead: examples/ceramic_target/in.ceramic_target
+(six axisymmetric bodies, the rod at 1325 m/s, its cracking tiles and eroding metals; the input as
+shipped, with `contact_balance MODEL thresh B every 1 parts K file balance.csv` added to the rod,
+the first contact body) for --steps steps (default 8000, the example's run), written to
+bench/results/contact_partition_ceramic.{csv,png}.
 """
 import argparse
 import csv
+import glob
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -67,6 +75,22 @@ def write_case(wd, model, parts, steps, thresh):
         f.write("\n".join(lines) + "\n")
 
 
+def write_ceramic(wd, model, parts, steps, thresh):
+    """The example as shipped, its rod (the first contact body) holding the scene's balance."""
+    src = os.path.join(ROOT, "examples", "ceramic_target")
+    for f in glob.glob(os.path.join(src, "*.msh")) + [os.path.join(src, "in.ceramic_target")]:
+        shutil.copy(f, wd)
+    path = os.path.join(wd, "in.ceramic_target")
+    text = open(path).read()
+    head = "fix rod all fem/body file rod.msh"
+    if text.count(head) != 1:
+        sys.exit(f"{path}: expected one '{head}' line")
+    text = text.replace(head, f"{head} contact_balance {model} thresh {thresh} every 1 "
+                        f"parts {parts} file balance.csv")
+    open(path, "w").write(text)
+    return ["-var", "steps", str(steps), "-var", "v", "1325"]
+
+
 def speedup(path, parts):
     rows = list(csv.DictReader(open(path)))
     total = sum(sum(float(r[f"work_{p}"]) for p in range(parts)) for r in rows)
@@ -81,17 +105,27 @@ def speedup(path, parts):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "fracdem"))
-    ap.add_argument("--steps", type=int, default=3000)
+    ap.add_argument("--scene", choices=("pile", "ceramic"), default="pile")
+    ap.add_argument("--steps", type=int, default=None)
     ap.add_argument("--thresh", type=float, default=1.05)
-    ap.add_argument("--csv", default=os.path.join(HERE, "results", "contact_partition.csv"))
-    ap.add_argument("--png", default=os.path.join(HERE, "results", "contact_partition.png"))
+    ap.add_argument("--csv", default=None)
+    ap.add_argument("--png", default=None)
     a = ap.parse_args()
+    ceramic = a.scene == "ceramic"
+    a.steps = a.steps or (8000 if ceramic else 3000)
+    name = "contact_partition" + ("_ceramic" if ceramic else "")
+    a.csv = a.csv or os.path.join(HERE, "results", name + ".csv")
+    a.png = a.png or os.path.join(HERE, "results", name + ".png")
     results = []
     for model in ("a_priori", "a_posteriori"):
         for parts in (2, 4, 6):
             wd = tempfile.mkdtemp(prefix=f"contact_partition_{model}_{parts}_")
-            write_case(wd, model, parts, a.steps, a.thresh)
-            r = subprocess.run([a.exe, "-echo", "none", "-in", "in.pile"], cwd=wd, text=True,
+            if ceramic:
+                extra, script = write_ceramic(wd, model, parts, a.steps, a.thresh), "in.ceramic_target"
+            else:
+                write_case(wd, model, parts, a.steps, a.thresh)
+                extra, script = [], "in.pile"
+            r = subprocess.run([a.exe, "-echo", "none", "-in", script] + extra, cwd=wd, text=True,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
             if r.returncode != 0 or "ERROR" in r.stdout:
                 sys.exit(f"{model} parts {parts} failed in {wd}:\n{r.stdout[-3000:]}")
@@ -116,12 +150,14 @@ def main():
     ax.plot(ranks, ranks, "k:", label="ideal")
     for model, colour in (("a_priori", "tab:blue"), ("a_posteriori", "tab:red")):
         ours = [r["speedup"] for r in results if r["model"] == model]
-        ax.plot(ranks, ours, "o-", color=colour, label=f"{model} (work model, this pile)")
+        ax.plot(ranks, ours, "o-", color=colour, label=f"{model} (work model, this scene)")
         ax.plot(ranks, [PAPER[model][k] for k in ranks], "s--", color=colour, alpha=0.6,
                 label=f"{model} (paper Table 3, measured)")
     ax.set_xlabel("ranks (parts)")
     ax.set_ylabel("speedup of the contact work")
-    ax.set_title(f"{ROWS * COLS} tri3 blocks piling up, {a.steps} steps")
+    ax.set_title("ceramic target (Example 3), 1325 m/s, " if ceramic else
+                 f"{ROWS * COLS} tri3 blocks piling up, ", fontsize=9, loc="left")
+    ax.set_title(f"{a.steps} steps", fontsize=9, loc="right")
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(a.png, dpi=120)

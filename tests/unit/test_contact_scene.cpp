@@ -285,3 +285,33 @@ TEST(ContactScene, ModelPartsCountEveryContactOnceAndRebalance)
   EXPECT_GE(parts.scene.repartitions(), 2); // the first search, then by recorded work
   EXPECT_LT(parts.scene.predicted_imbalance(), 1.1);
 }
+
+TEST(ContactScene, WorkBeforeAMidStepTopologyChangeStaysBooked)
+{
+  // A body's topology change (erosion, a split) in its force evaluation renumbers the scene
+  // before the later bodies' evaluation: the work the earlier bodies did in that step must stay
+  // booked to the parts that did it (the per-node windows restart with the numbering), so the
+  // parts' booked work adds up to every test and contact made.
+  Pile p(11);
+  ContactBalance three;
+  three.parts = 3;
+  three.every = 1;
+  three.thresh = 1.0;
+  Scene sc(p, three);
+  for (int s = 0; s < 20; ++s) {
+    Forces f = zeros(p);
+    std::vector<ContactBodyState> st;
+    for (int i = 0; i < p.size(); ++i)
+      st.push_back({p.x[i].data(), p.v[i].data(), p.m[i].data(), f[i].data()});
+    for (int i = 0; i < p.size(); ++i) {
+      sc.scene.evaluate_body(i, st, s, 0.002);
+      if (s % 4 == 1 && i == p.size() / 2) sc.scene.invalidate();
+    }
+    p.drift(0.002);
+  }
+  double booked = 0;
+  for (double w : sc.scene.booked())
+    booked += w;
+  EXPECT_GT(sc.scene.tests(), 0);
+  EXPECT_EQ(booked, static_cast<double>(sc.scene.tests() + sc.scene.contacts()));
+}

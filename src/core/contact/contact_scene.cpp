@@ -50,6 +50,10 @@ void ContactScene::configure(std::vector<SceneMember> members,
     }
   mesh_owner_.assign(n, {});
   owner_.clear();
+  carried_.assign(3 * static_cast<size_t>(nparts_), 0.0);
+  booked_.assign(nparts_, 0.0);
+  weights_window_.clear();
+  numbered_.clear();
   stale_ = true;
   searched_step_ = last_check_ = INT64_MIN;
   if (csv_) std::fclose(csv_);
@@ -77,6 +81,8 @@ int ContactScene::pair_part(int a, int b) const
 void ContactScene::renumber()
 {
   const int n = size();
+  const std::vector<int> old_off = node_off_;
+  fold_window();
   node_off_.assign(n + 1, 0);
   facet_off_.assign(n + 1, 0);
   reach_ = 0;
@@ -96,8 +102,50 @@ void ContactScene::renumber()
         if (static_cast<size_t>(nodes[s]) < known.size())
           owner_[node_off_[m] + s] = known[nodes[s]];
     }
+  carry_weights(old_off);
   win_tests_.assign(node_off_[n], 0.0);
   win_contacts_.assign(node_off_[n], 0.0);
+}
+
+// A topology change of one member renumbers the scene in the middle of a step, after the earlier
+// members' evaluation: their work since the last check stays booked to the parts that did it
+// (carried_), and stays in the recorded work of its nodes for the a posteriori weights
+// (weights_window_).
+void ContactScene::fold_window()
+{
+  carried_.resize(3 * static_cast<size_t>(nparts_), 0.0);
+  weights_window_.resize(win_tests_.size(), 0.0);
+  for (size_t g = 0; g < owner_.size() && g < win_tests_.size(); ++g) {
+    const int p = owner_[g] < 0 ? 0 : owner_[g];
+    carried_[p] += win_tests_[g] + win_contacts_[g];
+    carried_[nparts_ + p] += win_tests_[g];
+    carried_[2 * nparts_ + p] += win_contacts_[g];
+    weights_window_[g] += win_tests_[g] + win_contacts_[g];
+  }
+}
+
+// weights_window_ from the numbering of old_off / numbered_ (the members' node lists then) to the
+// current one, by mesh node (mesh nodes keep their index through splits and erosion).
+void ContactScene::carry_weights(const std::vector<int>& old_off)
+{
+  const int n = size();
+  std::vector<double> carried(node_off_[n], 0.0);
+  if (numbered_.size() == static_cast<size_t>(n) && old_off.size() == static_cast<size_t>(n + 1))
+    for (int m = 0; m < n; ++m) {
+      const std::vector<int>& before = numbered_[m];
+      std::vector<double> by_mesh(before.empty() ? 0 : before.back() + 1, 0.0);
+      for (size_t s = 0; s < before.size(); ++s)
+        if (old_off[m] + s < weights_window_.size())
+          by_mesh[before[s]] = weights_window_[old_off[m] + s];
+      const std::vector<int>& nodes = members_[m].surface->nodes;
+      for (size_t s = 0; s < nodes.size(); ++s)
+        if (static_cast<size_t>(nodes[s]) < by_mesh.size())
+          carried[node_off_[m] + s] = by_mesh[nodes[s]];
+    }
+  weights_window_ = std::move(carried);
+  numbered_.resize(n);
+  for (int m = 0; m < n; ++m)
+    numbered_[m] = members_[m].surface->nodes;
 }
 
 void ContactScene::gather_positions(const std::vector<ContactBodyState>& states)
@@ -270,8 +318,15 @@ void ContactScene::check_balance(std::int64_t step)
     per[nparts_ + p] += win_tests_[g];
     per[2 * nparts_ + p] += win_contacts_[g];
   }
+  carried_.resize(per.size(), 0.0);
+  for (size_t k = 0; k < per.size(); ++k)
+    per[k] += carried_[k];
+  std::fill(carried_.begin(), carried_.end(), 0.0);
   comm_.sum(per.data(), static_cast<int>(per.size()));
   const std::vector<double> work(per.begin(), per.begin() + nparts_);
+  booked_.resize(nparts_, 0.0);
+  for (int p = 0; p < nparts_; ++p)
+    booked_[p] += work[p];
   last_b_ = balance::imbalance(work);
   if (csv_) {
     std::fprintf(csv_, "%lld,%.6f,%ld,%.6f,%ld", static_cast<long long>(step), last_b_,
@@ -284,7 +339,7 @@ void ContactScene::check_balance(std::int64_t step)
   if (nparts_ > 1 && balance_.model == ContactBalance::APosteriori && last_b_ > balance_.thresh) {
     std::vector<double> w(nn);
     for (int g = 0; g < nn; ++g)
-      w[g] = win_tests_[g] + win_contacts_[g];
+      w[g] = win_tests_[g] + win_contacts_[g] + weights_window_[g];
     if (!evaluates_all()) comm_.sum(w.data(), nn);
     for (double& x : w)
       x = std::max(x, 1.0);
@@ -292,6 +347,7 @@ void ContactScene::check_balance(std::int64_t step)
   }
   std::fill(win_tests_.begin(), win_tests_.end(), 0.0);
   std::fill(win_contacts_.begin(), win_contacts_.end(), 0.0);
+  std::fill(weights_window_.begin(), weights_window_.end(), 0.0);
 }
 
 // METIS parts of the graph of surface nodes (edges: a candidate node to its facet's nodes),

@@ -99,11 +99,15 @@ public:
   long tests() const { return total_tests_; }
   long contacts() const { return total_contacts_; }
   double last_imbalance() const { return last_b_; }
+  // Per part: the work (tests + contacts) booked by the balance checks so far, all ranks'.
+  const std::vector<double>& booked() const { return booked_; }
   // B of the last partition's own vertex weights (what it promised).
   double predicted_imbalance() const { return predicted_b_; }
 
 private:
   void renumber();
+  void fold_window();
+  void carry_weights(const std::vector<int>& old_off);
   void search(const std::vector<ContactBodyState>& states);
   bool search_due() const;
   void gather_positions(const std::vector<ContactBodyState>& states);
@@ -141,6 +145,12 @@ private:
   // Node owners by (member, mesh node), carried over a renumbering.
   std::vector<std::vector<int>> mesh_owner_;
   std::vector<double> win_tests_, win_contacts_; // per scene node, since the last check
+  // Per part (work, tests, contacts) of the window done under an earlier numbering.
+  std::vector<double> carried_, booked_;
+  // Per scene node: work recorded under earlier numberings since the last check (a posteriori
+  // weights), and the members' node lists of the current numbering.
+  std::vector<double> weights_window_;
+  std::vector<std::vector<int>> numbered_;
   std::int64_t last_check_ = INT64_MIN;
   long searches_ = 0, repartitions_ = 0, total_tests_ = 0, total_contacts_ = 0;
   double last_b_ = 1.0, predicted_b_ = 0.0;
