@@ -373,3 +373,29 @@ TEST(FacetGhosts, ASlidingParticleCrossesPartsAndRanksKeepingItsHistory)
   EXPECT_GE(__builtin_popcount(seen_parts), 2) << "the sphere slid over facets of several parts";
   EXPECT_NE(dist[1].hs[0], -1.0) << "the contact kept a history slot";
 }
+
+TEST(FacetGhosts, DeepContactsReportAPatchBeyondTheGhostReach)
+{
+  // A particle pressed delta into the undeformed top face of a tet box (no indentation of the
+  // body yet, delta_b = 0): its Hertz patch reaches 3.6 sqrt(2 R delta), i.e.
+  // 3.6 sqrt(2 delta / R) radii: 1.61 at delta = 0.1 R (within the kPatchRadii that facet ghosts
+  // are sent), 4.26 at 0.7 R (beyond: the distributed body warns).
+  const Mesh mesh = make_box_tet_mesh(8, 8, 4, 0.2, 0.2, 0.1);
+  ParticleFacetContact c;
+  c.configure(options(true));
+  c.set_materials(materials());
+  c.rebuild_surface(mesh);
+  const double r = 0.02;
+  for (double depth : {0.1, 0.7}) {
+    Swarm s;
+    const double at[3] = {0.1, 0.1, 0.1 + r - depth * r}, vel[3] = {0, 0, 0};
+    s.add(at, vel, r);
+    ParticleArrays p = s.arrays();
+    std::vector<double> v(mesh.X.size(), 0.0), f(mesh.X.size(), 0.0);
+    const ParticleFacetResult res = c.evaluate(p, mesh.X.data(), mesh.X.data(), v.data(), 1e-7,
+                                               f.data());
+    ASSERT_GT(res.contacts, 0) << depth;
+    EXPECT_NEAR(res.patch_radii, 3.6 * std::sqrt(2 * depth), 1e-9) << depth;
+    EXPECT_EQ(res.patch_radii > kPatchRadii, depth > 0.6) << depth;
+  }
+}

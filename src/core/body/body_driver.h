@@ -261,6 +261,7 @@ private:
   int ncontacts_ = 0;
   bool velocities_applied_ = false, restarted_ = false;
   bool warned_slots_ = false, warned_unresolved_ = false, warned_dt_after_erosion_ = false;
+  bool warned_patch_ = false; // a Hertz patch wider than the facet ghosts' reach
   bool warned_squeezed_ = false;
   // Steps between checks of the deformed body's stable step (O(elements), ~1 % of the step).
   static constexpr int kStableStepCheckEvery = 100;

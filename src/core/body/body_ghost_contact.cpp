@@ -38,6 +38,18 @@ void BodyDriver::distributed_contact(const ParticleArrays& p, std::int64_t step,
                   "'history_slots'; extra contacts run without tangential history");
     warned_slots_ = true;
   }
+  if (res.patch_radii > kPatchRadii && !warned_patch_) {
+    warned_patch_ = true;
+    char text[640];
+    std::snprintf(text, sizeof text,
+                  "fix fem/body %s: at step %" PRId64 " a particle's Hertz patch reaches %.2f of "
+                  "its radii, beyond the %g radii of facets that the parts of a 'parallel "
+                  "distributed' body send to its rank (a contact deeper than 0.6 R): facets of "
+                  "other parts beyond that are left out of its patch, and the forces may differ "
+                  "from 'parallel replicated' (warned once)",
+                  id_.c_str(), step, res.patch_radii, kPatchRadii);
+    host_.warning(text);
+  }
   if (res.unresolved_speed > 0 && !warned_unresolved_) {
     warned_unresolved_ = true;
     char text[512];

@@ -11,9 +11,6 @@ namespace fracdem
 namespace
 {
 constexpr double kBig = std::numeric_limits<double>::max();
-// The Hertz patch (gather_surface_patch) reaches 3.6 sqrt(2 R (delta + delta_b)) in the plane of
-// the contact: within this many radii of the particle while delta + delta_b < 0.6 R.
-constexpr double kPatchRadii = 4.0;
 
 void grow(Box& b, const double* q)
 {

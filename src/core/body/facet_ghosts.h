@@ -12,6 +12,12 @@
 namespace fracdem
 {
 
+// The Hertz patch (gather_surface_patch) reaches 3.6 sqrt(2 R (delta + delta_b)) in the plane of
+// the contact: within this many radii of the particle while delta + delta_b < 0.6 R. Facet
+// ghosts are sent that far (and the buffer) around a rank's particles; a deeper contact is
+// warned about (its patch may miss facets of other parts).
+constexpr double kPatchRadii = 4.0;
+
 // The whole body's boundary surface, built once on every rank from the whole mesh (a distributed
 // body neither breaks nor erodes, so it never changes). A facet's index here is its global key
 // (boundary_facets order, the order a replicated body uses); nodes are global node numbers.

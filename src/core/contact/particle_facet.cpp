@@ -459,6 +459,7 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
     check_time_resolution(mat, in, res);
     // An unresolved contact (disc smaller than the mesh) stays a point contact.
     const bool spread = opt_.hertz_patch && hertz_contact_patch(lead, X, x, in, r);
+    if (opt_.hertz_patch) res.patch_radii = std::max(res.patch_radii, patch_reach_ / r);
     const ContactOutput out = particle_surface_force(mat, in, shear);
     for (int d = 0; d < 3; ++d) {
       p.f[i][d] += out.force[d];
@@ -516,9 +517,11 @@ bool ParticleFacetContact::hertz_contact_patch(const FacetHit& lead, const doubl
   // passes: the ring of the point-law radius first, then of the radius that gives.
   double a = std::sqrt(radius * in.delta);
   double delta_b = 0;
+  patch_reach_ = 0;
   for (int pass = 0; pass < 2; ++pass) {
-    gather_surface_patch(topology_, x, lead.nodes, lead.nn, lead.cp.p, in.n,
-                         3.6 * std::sqrt(2 * radius * (in.delta + delta_b)), patch_);
+    const double reach = 3.6 * std::sqrt(2 * radius * (in.delta + delta_b));
+    patch_reach_ = std::max(patch_reach_, reach);
+    gather_surface_patch(topology_, x, lead.nodes, lead.nn, lead.cp.p, in.n, reach, patch_);
     for (int v : patch_.nodes)
       indentation_disp_[v] = into_body(v);
     delta_b = local_indentation(radius, in.delta, u_c, indentation_disp_, patch_);

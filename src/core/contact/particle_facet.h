@@ -66,6 +66,9 @@ struct ParticleFacetResult {
   // largest time step that would resolve it (0 / infinity when every contact is resolved).
   double unresolved_speed = 0;
   double resolving_dt = std::numeric_limits<double>::infinity();
+  // hertz_patch: the widest surface patch a contact gathered, in radii of its particle (the
+  // facet ghosts of a distributed body reach 4; a deeper contact needs more).
+  double patch_radii = 0;
 };
 
 class ParticleFacetContact
@@ -156,6 +159,7 @@ private:
   // Hertz patch
   std::vector<double> node_area_, indentation_disp_, patch_weights_;
   SurfacePatch patch_;
+  double patch_reach_ = 0; // radius of the last contact's patch (both passes' widest)
 };
 
 } // namespace fracdem
