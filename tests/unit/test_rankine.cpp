@@ -207,6 +207,28 @@ TEST(Rankine, CrackedSwitchesAtTheAnalyticStrain)
   }
 }
 
+// A point is on its softening curve (rankine_softening, which holds node splits back) only
+// while damaged, not cracked, and at its largest strain so far: not elastic, not while unloading
+// (nor reloading below that strain), again once back at it, not once cracked.
+TEST(Rankine, SofteningOnlyOnTheCurve)
+{
+  const RankineParams p = concrete(Softening::Linear);
+  const double h = 0.1, k0 = p.ft / p.E, kf = kappa_f(p, h), ku = k0 + 0.4 * (kf - k0);
+  const std::vector<double> X = box(h, 2, 3);
+  Point pt;
+  auto at = [&](double e) {
+    const double eps[6] = {e, 0, 0, 0, 0, 0};
+    pt.step(p, StressMode::Solid, eps, X);
+    return rankine_softening(p, StressMode::Solid, pt.state.data());
+  };
+  EXPECT_FALSE(at(0.9 * k0)); // elastic
+  EXPECT_TRUE(at(ku));        // softening
+  EXPECT_FALSE(at(0.9 * ku)); // unloading: damage frozen
+  EXPECT_TRUE(at(ku));        // back on the curve at the same kappa
+  EXPECT_TRUE(at(0.5 * (ku + kf)));
+  EXPECT_FALSE(at(1.01 * kf)); // cracked: no tension left
+}
+
 // 2. Crack band: the energy per unit crack AREA, dissipated * h, is gf for any h below snap-back.
 TEST(Rankine, DissipationTimesBandWidthIsGfForTwoBandWidths)
 {

@@ -891,7 +891,8 @@ void BodyDriver::fracture(std::int64_t step, double dt)
   std::vector<SplitEvent> events;
   std::vector<CutEvent> cuts;
   if (!points.empty()) events = insert_cracks(body_, points, spec_->min_size, &cuts);
-  const int eroded = erode_collapsed(step, dt, map.failed);
+  const int eroded = erode_collapsed(
+      step, dt, spec_->erode_cracked ? elements_on_crack(body_, map.failed) : map.failed);
   if (events.empty() && cuts.empty() && eroded == 0) return;
   // Replicas must stay identical: a rank that split or cut differently stops the run at once.
   const int ne = body_.mesh().num_elems();

@@ -2,6 +2,8 @@
 #include "fracture/nodal_fracture.h"
 
 #include "fracture/element_cut.h"
+#include "materials/material_table.h"
+#include "materials/rankine.h"
 
 #include <algorithm>
 
@@ -76,6 +78,75 @@ bool band_already_cracked(const Body& body, const std::vector<char>& on_crack, i
   }
   return false;
 }
+
+// A crack point opens only once the material it would separate has no fracture energy left to
+// give at once: no element that borders the opening face (shares a face through v with an
+// element of the plan's other side) may still be on its softening curve with more than
+// kOpenTension f_t across the failure plane (normal n). A split unloads those elements; one
+// still softening at strength f has f / f_t of its fracture energy left, and a split would send
+// that into vibration instead (splitting at the first failed element, the notched beam of
+// docs/validation.md dissipated 0.84 of G_f (D - a) t). Elements that would not dissipate more
+// if the split waited never hold it back: intact ones, those unloading elastically (the column
+// beside a band that localised), cracked ones, compressed ones, and those the split does not
+// separate (beside a notch or behind the tip, touching the other side at v only). The limit
+// keeps the residual tension of a body whose load has fallen from holding its last rows shut.
+constexpr double kOpenTension = 0.12;
+
+bool shares_face(const Mesh& mesh, int e, int f)
+{
+  int common = 0;
+  for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+    for (int b = 0; b < nodes_per_elem(mesh.etype[f]); ++b)
+      common += mesh.conn[e][a] == mesh.conn[f][b];
+  return common >= elem_dim(mesh.etype[e]);
+}
+
+bool bonded_across(const Mesh& mesh, int e, const std::vector<int>& other)
+{
+  for (int f : other)
+    if (shares_face(mesh, e, f)) return true;
+  return false;
+}
+
+// The stress mode of the body's points (as FeSpace reads strains).
+StressMode point_stress_mode(const Body& body)
+{
+  const Material& mat = body.material();
+  return body.mesh().dim == 3                   ? StressMode::Solid
+         : mat.plane == PlaneMode::PlaneStress  ? StressMode::PlaneStress
+         : mat.plane == PlaneMode::Axisymmetric ? StressMode::Axisymmetric
+                                                : StressMode::PlaneStrain;
+}
+
+bool element_softening(const Body& body, int e)
+{
+  const Material& mat = body.material();
+  if (mat.model != MaterialModel::Rankine) return false;
+  const StressMode mode = point_stress_mode(body);
+  const double* st = body.material_state().data() + body.space().state_offset(e);
+  for (int q = 0; q < points_per_elem(body.mesh().etype[e]); ++q)
+    if (rankine_softening(mat.rankine(), mode, st + q * kRankineStateSize)) return true;
+  return false;
+}
+
+bool opening_carries_tension(const Body& body, const SplitPlan& plan, const double n[3])
+{
+  const double limit = kOpenTension * body.material().ft;
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<int>& mine = side == 0 ? plan.side_a : plan.side_b;
+    const std::vector<int>& other = side == 0 ? plan.side_b : plan.side_a;
+    for (int e : mine) {
+      if (!bonded_across(body.mesh(), e, other) || !element_softening(body, e)) continue;
+      double s[6]; // Voigt xx, yy, zz, xy, yz, zx
+      body.element_stress(e, s);
+      const double t = n[0] * n[0] * s[0] + n[1] * n[1] * s[1] + n[2] * n[2] * s[2] +
+                       2 * (n[0] * n[1] * s[3] + n[1] * n[2] * s[4] + n[2] * n[0] * s[5]);
+      if (t > limit) return true;
+    }
+  }
+  return false;
+}
+
 // A node whose element star fell into pieces that touch only at the node (cracks on several
 // sides of it) is split into one node per piece (logged with a zero normal): fragments are
 // never held together by a single node.
@@ -149,9 +220,14 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
     double n[3] = {0, 0, 0};
     const int e = driving_element(body, v, n);
     if (e < 0 || band_already_cracked(body, on_crack, e, v, n, line_tolerance)) continue;
-    if (cutting) cut_star(body, v, n, min_size, on_crack, cuts);
+    // With cuts the check comes before them (they change the star), on the plan of the star
+    // as it is; the split then opens along the cut.
+    if (cutting) {
+      if (opening_carries_tension(body, body.plan_split(v, n), n)) continue;
+      cut_star(body, v, n, min_size, on_crack, cuts);
+    }
     const SplitPlan plan = body.plan_split(v, n);
-    if (!plan.splittable()) continue;
+    if (!plan.splittable() || (!cutting && opening_carries_tension(body, plan, n))) continue;
     SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};
     ev.copy = body.split_node(plan);
     on_crack[v] = 1;
@@ -160,6 +236,22 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
   }
   separate_pinched_nodes(body, events);
   return events;
+}
+
+std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& failed)
+{
+  std::vector<char> split(body.num_nodes(), 0);
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (body.parents()[w] >= 0) split[w] = split[body.parents()[w]] = 1;
+  const Mesh& mesh = body.mesh();
+  std::vector<int> reached;
+  for (int e : failed)
+    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+      if (split[mesh.conn[e][a]]) {
+        reached.push_back(e);
+        break;
+      }
+  return reached;
 }
 
 std::vector<double> fragment_masses(const Body& body)

@@ -51,7 +51,9 @@ struct CutEvent {
 // star lies on one side of the plane (already split, or a surface node with a tangent plane) are
 // left alone, and so are points whose failed element already borders a crack on its far side (one
 // crack per band, no sliver fragments). Then a node whose star fell into pieces that touch only
-// at it is split into one node per piece (event with a zero normal). Every replica that calls
+// at it is split into one node per piece (event with a zero normal). A point also waits while an
+// element the split would separate is still softening under tension across the plane (it would
+// be cut loose with fracture energy left: nodal_fracture.cpp). Every replica that calls
 // this on the same body and points makes the same splits.
 // With min_size > 0 (fracture nodal min_size), before a point's split, the failure plane may
 // first cut through elements of its star (fracture/element_cut.h, Body::bisect_edge) where it
@@ -59,6 +61,12 @@ struct CutEvent {
 // parent's measure; the split then opens along the cut. Cuts go to *cuts (if given).
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points,
                                       double min_size = 0, std::vector<CutEvent>* cuts = nullptr);
+
+// The elements of `failed` that a crack has reached: at least one of their nodes is split (a
+// split node or its copy). `erode_cracked` removes only these: erosion opens the body as a split
+// does, so it waits for the crack to arrive; one removed while insert_cracks still holds its
+// nodes back (an element they would separate still softens) would open the crack early.
+std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& failed);
 
 // Mass of every fragment (connected piece of active elements; a node's lumped mass counts with the
 // piece of its elements), largest first.

@@ -268,6 +268,17 @@ bool rankine_cracked(const RankineParams& p, const double* state)
   return softening_stress(p, kappa, h) <= 0.01 * p.ft;
 }
 
+bool rankine_softening(const RankineParams& p, StressMode mode, const double* state)
+{
+  if (!(state[kDamage] > 0) || rankine_cracked(p, state)) return false;
+  // The same trial stress and eigen-solve as the last update, so a point that was loading
+  // compares equal to its kappa bit for bit.
+  double str[6], s[3], n[3][3];
+  trial_stress(p, mode, state + kEpsPrev, str);
+  principal(str, s, n);
+  return s[0] / p.E >= state[kKappa];
+}
+
 double rankine_snapback_length(const RankineParams& p)
 {
   return 2 * p.E * p.gf / (p.ft * p.ft);

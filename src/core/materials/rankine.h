@@ -114,6 +114,10 @@ double rankine_band_width(const double* state);          // h, 0 before onset
 // True once the point carries no more tension: linear softening kappa >= kappa_f; exponential:
 // remaining strength f(kappa) <= 0.01 ft. Also true for the h <= 0 / snap-back failures above.
 bool rankine_cracked(const RankineParams& p, const double* state);
+// True while the point is on its softening curve: damaged, not yet cracked, and the strain of its
+// last update reached its largest equivalent strain (kappa grew or held there). A point below
+// that unloads elastically: its damage, and so its dissipation, stay where they are.
+bool rankine_softening(const RankineParams& p, StressMode mode, const double* state);
 // Largest crack-band width for which the softening law does not snap back: 2 E gf / ft^2 (both
 // laws).
 double rankine_snapback_length(const RankineParams& p);
