@@ -127,7 +127,7 @@ meshgen.write_gmsh22(os.path.join(wd, "pieces.msh"), X, E,
 head = open(os.path.join(h.INPUTS, "in.edge_contact")).read()
 head = head[:head.index("fix a all fem/body")].replace("${mu}", "0.3")
 fix = ("fix p all fem/body file pieces.msh type 1 density 1000 youngs 1e7 poisson 0.3 gravity no "
-       "velocity upper 0 0 -1 contact_bodies yes energy_file p.csv 50\n"
+       "velocity upper 0 0 -1 contact_bodies yes contact_edges yes energy_file p.csv 50\n"
        "thermo_style custom step f_p[1] f_p[2] f_p[4] f_p[13] f_p[14] f_p[15]\n"
        "thermo_modify format float %.17g\nthermo 50\n")
 setup = re.compile(r"^(dimension|atom_style|atom_modify|boundary|units|region|create_box).*\n", re.M)

@@ -1,6 +1,8 @@
 // Unit tests of the load-balance kernels (graph, METIS, relabelling, pair search, cells, costs).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <algorithm>
 #include <map>
 #include <numeric>
@@ -263,13 +265,18 @@ TEST(BalanceKernels, BinnedPairsMatchBruteForce)
   EXPECT_THROW(binned_pairs({0, 0}, {1}, 0.1, lo, hi, per), std::invalid_argument);
 }
 
-TEST(BalanceKernels, CalibratedCostsArePositiveAndContactsCostMoreThanChecks)
+TEST(BalanceKernels, CalibratedCostsAreNormalisedPositiveAndFinite)
 {
+  // The calibration times kernels, so which costs more depends on the machine and its load (a
+  // loaded CI machine once measured a contact below a check); what it guarantees is the unit
+  // (a pair check is 1) and costs that a partitioner can use: finite, at least the floor 0.05.
   const InteractionCosts c = calibrate_costs(0.02);
   EXPECT_DOUBLE_EQ(c.pair_check, 1.0);
-  EXPECT_GT(c.sphere_contact, 1.0); // a Hertz law with history does more than a distance test
-  EXPECT_GT(c.facet_contact, c.facet_check);
-  EXPECT_GT(c.wall_contact, 0.0);
+  for (double cost : {c.particle, c.sphere_contact, c.facet_check, c.facet_contact, c.wall_check,
+                      c.wall_contact}) {
+    EXPECT_TRUE(std::isfinite(cost));
+    EXPECT_GE(cost, 0.05);
+  }
 }
 
 TEST(BalanceKernels, RefinementBalancesWithLittleMigration)

@@ -290,7 +290,8 @@ TEST(BodySpec, ContactAndRunKeywords)
   EXPECT_TRUE(d.tangential_history);
   EXPECT_EQ(d.contact_bodies, 0);
   EXPECT_EQ(parse("").history_slots, 8);
-  EXPECT_TRUE(parse("").contact_edges);
+  EXPECT_FALSE(parse("").contact_edges);
+  EXPECT_TRUE(parse("contact_edges yes").contact_edges);
   EXPECT_FALSE(parse("contact_edges no").contact_edges);
 }
 
