@@ -641,11 +641,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   if (particles) {
     res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
                             body_.velocities().data(), dt, body_.contact_forces());
-    if (res.history_exhausted && !warned_slots_) {
-      host_.warning("fix fem/body: a particle has more simultaneous facet contacts than "
-                    "'history_slots'; extra contacts run without tangential history");
-      warned_slots_ = true;
-    }
+    warn_history_slots(res);
   }
 
   // energy, contacts, unresolved contacts (summed); first inverted element + 1 (max)
@@ -721,10 +717,34 @@ void BodyDriver::warn_unresolved_contact(std::int64_t step, const ParticleFacetR
   double speed = res.unresolved_speed, dt_ok = res.resolving_dt;
   host_.max(&speed, 1);
   host_.min(&dt_ok, 1);
-  warn(format("fix fem/body %s: at step %" PRId64 " a particle approaches the surface at "
-              "%g m/s, more than %g %% of its Hertz penetration per time step; the contact is not "
-              "resolved in time and may gain or lose energy: timestep %g or smaller resolves it",
-              id_.c_str(), step, speed, 100 * kMaxApproachPerStep, dt_ok));
+  warn(unresolved_contact_text(step, speed, dt_ok));
+}
+
+// Said once, by the rank whose particle ran out of slots (as the LIGGGHTS adapter did).
+void BodyDriver::warn_history_slots(const ParticleFacetResult& res)
+{
+  if (!res.history_exhausted || warned_slots_) return;
+  host_.warning("fix fem/body: a particle has more simultaneous facet contacts than "
+                "'history_slots'; extra contacts run without tangential history");
+  warned_slots_ = true;
+}
+
+std::string BodyDriver::unresolved_contact_text(std::int64_t step, double speed, double dt_ok) const
+{
+  return format("fix fem/body %s: at step %" PRId64 " a particle approaches the surface at %g "
+                "m/s, more than %g %% of its Hertz penetration per time step; the contact is not "
+                "resolved in time and may gain or lose energy: timestep %g or smaller resolves it",
+                id_.c_str(), step, speed, 100 * kMaxApproachPerStep, dt_ok);
+}
+
+std::string BodyDriver::wide_patch_text(std::int64_t step, double radii) const
+{
+  return format("fix fem/body %s: at step %" PRId64 " a particle's Hertz patch reaches %.2f of "
+                "its radii, beyond the %g radii of facets that the parts of a 'parallel "
+                "distributed' body send to its rank (a contact deeper than 0.6 R): facets of other "
+                "parts beyond that are left out of its patch, and the forces may differ from "
+                "'parallel replicated' (warned once)",
+                id_.c_str(), step, radii, kPatchRadii);
 }
 
 // Internal forces of this rank's elements; returns their strain energy. A breaking or eroding

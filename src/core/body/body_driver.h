@@ -202,6 +202,11 @@ private:
   void note_uncut_quads() const;
   void log_fragments(std::int64_t step);
   void warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res);
+  void warn_history_slots(const ParticleFacetResult& res);
+  // The texts of the contact warnings (replicated bodies reduce the figures first; a distributed
+  // body's rank warns with its own).
+  std::string unresolved_contact_text(std::int64_t step, double speed, double dt_ok) const;
+  std::string wide_patch_text(std::int64_t step, double radii) const;
   void rebuild_surfaces();
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
   void configure_scene();

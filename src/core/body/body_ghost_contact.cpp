@@ -1,8 +1,5 @@
 // BodyDriver's particle contact with a distributed body: boxes when the host re-neighbours, facet
 // ghosts to the ranks whose particles can reach them and the forces back, each step.
-#include <cinttypes>
-#include <cstdio>
-
 #include "body/body_driver.h"
 
 namespace fracdem
@@ -33,34 +30,14 @@ void BodyDriver::distributed_contact(const ParticleArrays& p, std::int64_t step,
   shared_sum_(body_.contact_forces(), 3);
   ncontacts_ = res.contacts;
   // Warnings come from the rank that sees the case (no collective per step).
-  if (res.history_exhausted && !warned_slots_) {
-    host_.warning("fix fem/body: a particle has more simultaneous facet contacts than "
-                  "'history_slots'; extra contacts run without tangential history");
-    warned_slots_ = true;
-  }
+  warn_history_slots(res);
   if (res.patch_radii > kPatchRadii && !warned_patch_) {
     warned_patch_ = true;
-    char text[640];
-    std::snprintf(text, sizeof text,
-                  "fix fem/body %s: at step %" PRId64 " a particle's Hertz patch reaches %.2f of "
-                  "its radii, beyond the %g radii of facets that the parts of a 'parallel "
-                  "distributed' body send to its rank (a contact deeper than 0.6 R): facets of "
-                  "other parts beyond that are left out of its patch, and the forces may differ "
-                  "from 'parallel replicated' (warned once)",
-                  id_.c_str(), step, res.patch_radii, kPatchRadii);
-    host_.warning(text);
+    host_.warning(wide_patch_text(step, res.patch_radii));
   }
   if (res.unresolved_speed > 0 && !warned_unresolved_) {
     warned_unresolved_ = true;
-    char text[512];
-    std::snprintf(text, sizeof text,
-                  "fix fem/body %s: at step %" PRId64 " a particle approaches the surface at %g "
-                  "m/s, more than %g %% of its Hertz penetration per time step; the contact is "
-                  "not resolved in time and may gain or lose energy: timestep %g or smaller "
-                  "resolves it",
-                  id_.c_str(), step, res.unresolved_speed, 100 * kMaxApproachPerStep,
-                  res.resolving_dt);
-    host_.warning(text);
+    host_.warning(unresolved_contact_text(step, res.unresolved_speed, res.resolving_dt));
   }
 }
 

@@ -234,13 +234,8 @@ std::vector<std::pair<int, int>> ContactScene::candidates(int a, int b) const
 std::vector<double> ContactScene::apriori_weights() const
 {
   std::vector<double> w(node_off_.back(), 1.0);
-  const int n = size();
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) {
-      const size_t k = static_cast<size_t>(a) * n + b;
-      for (size_t c = cand_off_[k]; c < cand_off_[k + 1]; ++c)
-        w[node_off_[a] + cand_[c].first] += 1.0;
-    }
+  for (const auto& c : search_.candidates()) // scene node numbers
+    w[c.first] += 1.0;
   return w;
 }
 

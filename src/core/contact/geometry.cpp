@@ -137,4 +137,22 @@ FacetBound facet_bound(const double a[3], const double b[3], const double* c)
   return f;
 }
 
+void facet_normal(const double* x, const int* nodes, int nn, double nrm[3])
+{
+  const double* a = &x[3 * nodes[0]];
+  const double* b = &x[3 * nodes[1]];
+  if (nn == 3) {
+    const double* c = &x[3 * nodes[2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  } else {
+    nrm[0] = b[1] - a[1];
+    nrm[1] = a[0] - b[0];
+    nrm[2] = 0;
+  }
+}
+
 } // namespace fracdem

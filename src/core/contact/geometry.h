@@ -24,6 +24,10 @@ ClosestPoint closest_point_triangle(const double q[3], const double a[3], const 
 // Interior points report Face (the segment is a 2D body's boundary facet); ends report Vertex 0/1.
 ClosestPoint closest_point_segment(const double q[3], const double a[3], const double b[3]);
 
+// Normal of facet `nodes` (nn = 3: triangle, right-hand rule; nn = 2: in-plane edge normal) at
+// node positions x, not normalised (its length is twice the area or the edge length).
+void facet_normal(const double* x, const int* nodes, int nn, double nrm[3]);
+
 // A facet's plane and bounding ball, for culling spheres that cannot reach it before the closest
 // point is computed. Every point p of the facet has |n.(p - c)| <= off_plane and |p - c| <= radius
 // (off_plane covers the plane's rounding on slivers); slack covers the rounding of the bound.

@@ -10,29 +10,6 @@
 namespace fracdem
 {
 
-namespace
-{
-// Normal of facet `nodes` (nn = 3: triangle, right-hand rule; nn = 2: in-plane edge normal) at
-// node positions x, not normalised (its length is twice the area or the edge length).
-void facet_normal(const double* x, const int* nodes, int nn, double nrm[3])
-{
-  const double* a = &x[3 * nodes[0]];
-  const double* b = &x[3 * nodes[1]];
-  if (nn == 3) {
-    const double* c = &x[3 * nodes[2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-  } else {
-    nrm[0] = b[1] - a[1];
-    nrm[1] = a[0] - b[0];
-    nrm[2] = 0;
-  }
-}
-} // namespace
-
 double* history_slot(double* row, int slots, std::uint64_t key, bool create, bool* exhausted)
 {
   const double hi = static_cast<double>(key >> 32), lo = static_cast<double>(key & 0xffffffffu);

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contact/geometry.h"
+
 namespace fracdem
 {
 
@@ -24,14 +26,7 @@ double facet_size(const double* x, const Facet& fc)
 
 void facet_unit_normal(const double* x, const Facet& fc, double* n)
 {
-  const double* a = &x[3 * fc.n[0]];
-  const double* b = &x[3 * fc.n[1]];
-  const double* c = &x[3 * fc.n[2]];
-  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  facet_normal(x, fc.n.data(), 3, n);
   const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int d = 0; d < 3; ++d)
     n[d] = l > 0 ? n[d] / l : 0.0;
