@@ -37,7 +37,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "python"))
-from fracdem import meshgen  # noqa: E402
+from fracdem import scenes  # noqa: E402
 
 # Table 3 of the paper (Example 3, the layered ceramic target): speedup at 2, 4, 6 processors.
 PAPER = {"a_priori": {2: 1.82, 4: 3.52, 6: 4.60}, "a_posteriori": {2: 1.86, 4: 3.63, 6: 5.33}}
@@ -45,31 +45,9 @@ ROWS, COLS, SIZE, GAP = 8, 5, 0.04, 0.008
 
 
 def write_case(wd, model, parts, steps, thresh):
-    X, E, G = meshgen.rect_mesh(4, 4, SIZE, SIZE, origin=(0.0, 0.0), element="tri3")
-    meshgen.write_gmsh22(os.path.join(wd, "block.msh"), X, E, G)
-    X, E, G = meshgen.rect_mesh(24, 2, 0.24, 0.02, origin=(0.0, 0.0), element="quad4")
-    meshgen.write_gmsh22(os.path.join(wd, "floor.msh"), X, E, G)
-    lines = [
-        "dimension 2", "atom_style granular", "atom_modify map array", "boundary f f p",
-        "newton off", "communicate single vel yes", "units si",
-        "region box block -0.05 0.3 -0.05 0.45 -0.01 0.01 units box", "create_box 1 box",
-        "neighbor 0.001 bin", "neigh_modify delay 0",
-        "fix m1 all property/global youngsModulus peratomtype 1e7",
-        "fix m2 all property/global poissonsRatio peratomtype 0.3",
-        "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-        "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
-        "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
-        "variable common string \"type 1 density 1000 youngs 1e7 poisson 0.3 plane strain "
-        "thickness 0.1 contact_bodies yes gravity no\"",
-        f"fix floor all fem/body file floor.msh ${{common}} move -0.01 {-0.02 - GAP} 0 fixed "
-        f"ymin contact_balance {model} thresh {thresh} every 1 parts {parts} file balance.csv",
-    ]
-    for r in range(ROWS):
-        for c in range(COLS):
-            x, y = 0.005 + c * (SIZE + GAP), r * (SIZE + GAP)
-            vx = 0.5 if (r + c) % 2 else -0.5
-            lines.append(f"fix b{r}_{c} all fem/body file block.msh ${{common}} move {x} {y} 0 "
-                         f"velocity all {vx} {-(2.0 + 0.5 * r)} 0")
+    lines, _ = scenes.block_pile(
+        wd, ROWS, COLS, lambda r: 2.0 + 0.5 * r, floor_cells=24, box_top=0.45, size=SIZE, gap=GAP,
+        floor_balance=f"{model} thresh {thresh} every 1 parts {parts}", name="b{r}_{c}")
     lines += ["thermo 500", f"run {steps}"]
     with open(os.path.join(wd, "in.pile"), "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -25,9 +25,13 @@ the first contacts and O(1) 20 steps later; the ranks' different summation order
 forces (round-off) starts the same growth (here from step ~360).
 """
 import os
+import sys
 import tempfile
 
 import harness as h
+
+sys.path.insert(0, os.path.join(h.ROOT, "python"))
+from fracdem import scenes  # noqa: E402
 
 args = h.parse_args()
 
@@ -37,32 +41,9 @@ STEPS, THERMO = 340, 20
 
 
 def write_case(wd, balance):
-    h.make_rect_mesh(os.path.join(wd, "block.msh"), (4, 4), (SIZE, SIZE))
-    h.make_rect_mesh(os.path.join(wd, "floor.msh"), (20, 2), (0.2, 0.02), element="quad4")
-    lines = [
-        "dimension 2", "atom_style granular", "atom_modify map array", "boundary f f p",
-        "newton off", "communicate single vel yes", "units si",
-        "region box block -0.05 0.3 -0.05 0.3 -0.01 0.01 units box", "create_box 1 box",
-        "neighbor 0.001 bin", "neigh_modify delay 0",
-        "fix m1 all property/global youngsModulus peratomtype 1e7",
-        "fix m2 all property/global poissonsRatio peratomtype 0.3",
-        "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-        "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
-        "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
-        "variable common string \"type 1 density 1000 youngs 1e7 poisson 0.3 plane strain "
-        "thickness 0.1 contact_bodies yes gravity no bulk_viscosity 0.06 1.2\"",
-        f"fix floor all fem/body file floor.msh ${{common}} move -0.01 {-0.02 - GAP} 0 "
-        f"fixed ymin contact_balance {balance} file balance.csv",
-    ]
-    names = ["floor"]
-    for r in range(ROWS):
-        for c in range(COLS):
-            name = f"b{r}{c}"
-            names.append(name)
-            x, y = 0.005 + c * (SIZE + GAP), r * (SIZE + GAP)
-            vx = 0.5 if (r + c) % 2 else -0.5
-            lines.append(f"fix {name} all fem/body file block.msh ${{common}} move {x} {y} 0 "
-                         f"velocity all {vx} {-SPEEDS[r]} 0")
+    lines, names = scenes.block_pile(wd, ROWS, COLS, lambda r: SPEEDS[r], floor_cells=20,
+                                     box_top=0.3, size=SIZE, gap=GAP, floor_balance=balance,
+                                     extra=" bulk_viscosity 0.06 1.2")
     cols = []
     for n in names:
         cols += [f"f_{n}[1]", f"f_{n}[4]", f"f_{n}[8]", f"f_{n}[9]", f"f_{n}[13]", f"f_{n}[14]"]
