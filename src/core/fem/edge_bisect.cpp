@@ -1,5 +1,4 @@
-// Conforming edge bisection of tri3 / quad4 / tet4 meshes (the mesh half of a crack through an
-// element).
+// Conforming edge bisection of tri3 / quad4 / tet4 meshes (the mesh half of cracks through elements).
 #include "fem/edge_bisect.h"
 
 #include <algorithm>
