@@ -1,4 +1,4 @@
-// Conforming edge bisection of tri3 / quad4 / tet4 meshes (the mesh half of cracks through elements).
+// Conforming edge bisection of tri3 / quad4 / tet4 meshes (the mesh half of element cuts).
 #include "fem/edge_bisect.h"
 
 #include <algorithm>
