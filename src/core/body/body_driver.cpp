@@ -159,7 +159,6 @@ void BodyDriver::build(int dimension)
       fracdem::split_element_work(body_, host_.rank, host_.nprocs, spec_->erosion.on());
   rebuild_surfaces();
   check_crack_band();
-  note_uncut_quads();
 }
 
 // Whether the body is distributed: asked ('parallel distributed'), or chosen by its size where
@@ -199,18 +198,6 @@ bool BodyDriver::choose_distributed(int dimension, Mesh& whole, bool& have_whole
   if (error) std::rethrow_exception(error);
   if (!why.empty()) print(prefix() + why + "\n");
   return choice == 1;
-}
-
-// fracture nodal min_size cuts tri3 and tet4 elements only: said once when the mesh has quads.
-void BodyDriver::note_uncut_quads() const
-{
-  if (!(spec_->min_size > 0)) return;
-  const Mesh& mesh = body_.mesh();
-  const long quads = std::count(mesh.etype.begin(), mesh.etype.end(), ElemType::Quad4);
-  if (quads > 0)
-    print(format("fix fem/body %s: min_size ignored for quad4 elements: cracks keep to the "
-                 "boundaries of the mesh's %ld quad4 elements (only tri3 and tet4 are cut)\n",
-                 id_.c_str(), quads));
 }
 
 // parallel distributed: this rank's METIS part, which rank 0 alone cuts from the whole mesh

@@ -199,7 +199,6 @@ private:
   void log_cuts(std::int64_t step, const std::vector<CutEvent>& cuts) const;
   void share_element_work();
   void check_step_after_cracks(std::int64_t step, double dt, bool cut);
-  void note_uncut_quads() const;
   void log_fragments(std::int64_t step);
   void warn_unresolved_contact(std::int64_t step, const ParticleFacetResult& res);
   void warn_history_slots(const ParticleFacetResult& res);

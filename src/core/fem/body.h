@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fem/body_motion.h"
+#include "fem/edge_bisect.h"
 #include "fem/fe_space.h"
 #include "materials/material.h"
 #include "fem/mesh.h"
@@ -142,18 +143,23 @@ public:
 
   // ---- cracks through elements (fem/body_cut.cpp) ----
   // Bisects edge uw at P = u + t (w - u) (fem/edge_bisect.h: every element around the edge split
-  // in two; the slot keeps the child with u, measure t). P's reference and current positions are
-  // interpolated; each child copies its parent's material state (its strain is the parent's:
-  // the displacement is linear along the edge), the viscous accounts are shared t : 1 - t. P
-  // takes the lumped mass u and w lose, with their momentum and a share of their forces in the
-  // same proportion, so mass, momentum and force sums are unchanged (to round-off), and P moves
-  // at the interpolated velocity (exactly so where the lumped shares are equal: plane tri3,
-  // tet4). P is held in the components both ends hold (prescribed if both are, at the
+  // in two; a tri3 / tet4 slot keeps the child with u, measure t; a quad4 is split into a quad4,
+  // kept in its slot, and a tri3 as `joins` says). P's reference and current positions are
+  // interpolated; a tri3 / tet4 child copies its parent's material state (its strain is the
+  // parent's: the displacement is linear along the edge), a quad4's children take each point's
+  // state from the parent's nearest point; the viscous accounts are shared by measure. P takes
+  // the lumped mass the nodes around the edge lose (u and w; with a quad4 also its other nodes,
+  // whose shares change, and a node that gains takes its gain at the mean velocity of what was
+  // lost), with its momentum and a share of the forces in the same proportion, so mass,
+  // momentum and force sums are unchanged (to round-off) and the kinetic energy never grows;
+  // P moves at the interpolated velocity exactly where the lumped shares are equal (plane
+  // tri3, tet4). P is held in the components both ends hold (prescribed if both are, at the
   // interpolated velocity) and joins the node sets that hold both. A whole-body element range
   // grows with the mesh; a shared one must be set again. Returns P; new_elems (optional) gets
   // the appended elements, one per element around the edge. Throws std::invalid_argument when
-  // the edge is not bisectable (quad4 around it) or t is outside (0, 1).
-  int bisect_edge(int u, int w, double t, std::vector<int>* new_elems = nullptr);
+  // the edge is not bisectable, a quad4 around it has no valid join or t is outside (0, 1).
+  int bisect_edge(int u, int w, double t, std::vector<int>* new_elems = nullptr,
+                  const std::vector<QuadJoin>& joins = {});
   // Elements of the mesh as built; the ones after them came from cuts, each with its parent.
   int mesh_elements() const { return mesh_elems_; }
   int element_parent(int e) const { return e < mesh_elems_ ? -1 : elem_parent_[e - mesh_elems_]; }
@@ -256,8 +262,11 @@ private:
   void resize_nodes(int nn);
   // bisect_edge's parts (fem/body_cut.cpp).
   void cut_conditions(int p, int u, int w, double t);
-  void cut_masses(int p, int u, int w, const double* loss);
-  void cut_elements(const std::vector<int>& parents, int first_child, double t);
+  void cut_masses(int p, const std::vector<int>& nodes, const std::vector<double>& loss,
+                  bool gains);
+  void cut_elements(const std::vector<int>& parents, int first_child, double t,
+                    const std::vector<std::array<int, 4>>& parent_conn);
+  void map_quad_states(int e, int c, const std::array<int, 4>& parent_conn);
   // Restart (version 5): the elements and nodes made by cuts.
   void pack_growth(std::vector<double>& buf) const;
   const double* unpack_growth(const double* p, int ne);

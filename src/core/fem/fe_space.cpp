@@ -1415,4 +1415,16 @@ double FeSpace::stable_time_step(const Mesh& mesh, const double* x, const BulkVi
   return w2max > 0 ? 2.0 / std::sqrt(w2max) : 1e300;
 }
 
+void quad_point_positions(const double* X, const std::array<int, 4>& conn, double xy[4][2])
+{
+  for (int q = 0; q < 4; ++q) {
+    double N[4], dNdxi[4][2];
+    quad_shape(kQuadXi[q][0], kQuadXi[q][1], N, dNdxi);
+    xy[q][0] = xy[q][1] = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 2; ++d)
+        xy[q][d] += N[a] * X[3 * conn[a] + d];
+  }
+}
+
 } // namespace fracdem

@@ -151,4 +151,9 @@ private:
   std::vector<int> state_offset_{0}; // start of element e's material state
 };
 
+// Reference positions (x, y) of the four integration points of a quad4 with nodes conn (X: 3
+// coordinates per node), in the order of its material-state points (cracks through elements map
+// a parent's point states to its children's points by these).
+void quad_point_positions(const double* X, const std::array<int, 4>& conn, double xy[4][2]);
+
 } // namespace fracdem

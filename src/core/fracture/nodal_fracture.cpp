@@ -186,7 +186,7 @@ void cut_star(Body& body, int v, const double n[3], double min_size, std::vector
     if (!cut.found()) return;
     CutEvent ev{v, cut.elem, cut.u, cut.w, cut.t, -1, {}};
     std::vector<int> added;
-    ev.new_node = body.bisect_edge(cut.u, cut.w, cut.t, &added);
+    ev.new_node = body.bisect_edge(cut.u, cut.w, cut.t, &added, cut.joins);
     on_crack.push_back(1); // on the crack's line: where it goes on
     // elem's child first, then the neighbours'.
     for (int c : added)
