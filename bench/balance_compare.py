@@ -5,6 +5,10 @@ rcb weight neigh/time as the spatial reference. Scenes:
   settle    3D settling bed, ~5300 spheres, z-slabs (LAMMPS reference too)
   hopper    3D hopper filling: spheres inserted above a rigid fem/body cone, z-slabs
   dragline  2D dragline bucket: a rigid fem/body bucket dragged through ~900 disks, x-slabs
+  settle_large  the settling bed 4 x 4 times as wide (85 536 spheres, >= 5000 per rank at 16
+                ranks; LAMMPS reference too), 300 steps, check every 100 (issue #11 item 6)
+  hopper_large  a hopper twice the size, pre-filled with 87 317 spheres, 300 steps, check
+                every 100
 
   python3 bench/balance_compare.py [--scene settle] [--ranks 1 2 4 6] [--steps N] [--reps 3]
 
@@ -42,6 +46,8 @@ FRACDEM_METHODS = {  # name -> variables of in.settle_fracdem
     "graph a posteriori fitted": dict(thresh=1.05, model="aposteriori", cost="fitted"),
     "graph a posteriori timed scotch": dict(thresh=1.05, model="aposteriori", cost="timed",
                                             partitioner="scotch"),
+    "graph a posteriori counts rcb": dict(thresh=1.05, model="aposteriori", cost="counts",
+                                          partitioner="rcb"),
 }
 # Control (settle only): the stock grid cut into px x py sub-domains holding identical copies of
 # the scene (no jitter; lattices commensurate with the grid, atoms off the cuts). The work model
@@ -79,8 +85,13 @@ SCENES = {  # scene -> (fracdem input, LAMMPS input or None, default steps, mesh
     "settle": ("in.settle_fracdem", "in.settle_lammps", 4000, None),
     "hopper": ("in.hopper_fracdem", None, 16000, "hopper"),
     "dragline": ("in.balance_dragline", None, 8000, "bucket"),
+    "settle_large": ("in.settle_fracdem", "in.settle_lammps", 300, None),
+    "hopper_large": ("in.hopper_large_fracdem", None, 300, "hopper_large"),
 }
-EXTRA = {"dragline": dict(every=200)}  # scene-specific input variables
+# Scene-specific input variables (for LAMMPS too). The large bed: 4 x 4 times the area of the
+# settling bed (L = 36 x 0.0176), 85 536 spheres, 5346 per rank at 16 ranks.
+EXTRA = {"dragline": dict(every=200), "settle_large": dict(L=0.6336, every=100),
+         "hopper_large": dict(every=100)}
 
 
 def write_mesh(kind, wd):
@@ -89,6 +100,9 @@ def write_mesh(kind, wd):
     if kind == "hopper":
         X, E = meshgen.funnel_tet_mesh(0.02, 0.08, 0.1, 0.005, 36, 8, origin=(0, 0, 0.02))
         meshgen.write_gmsh22(os.path.join(wd, "hopper.msh"), X, E)
+    elif kind == "hopper_large":
+        X, E = meshgen.funnel_tet_mesh(0.04, 0.16, 0.2, 0.005, 72, 16, origin=(0, 0, 0.04))
+        meshgen.write_gmsh22(os.path.join(wd, "hopper_large.msh"), X, E)
     elif kind == "bucket":
         harness.make_bucket_mesh(os.path.join(wd, "bucket.msh"))
 
@@ -124,6 +138,8 @@ def main():
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--no-lammps", action="store_true")
     ap.add_argument("--methods", nargs="+", help="only methods whose name contains one of these")
+    ap.add_argument("--skip", nargs="+", default=[],
+                    help="leave out methods whose name contains one of these (e.g. scotch)")
     ap.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                     help="input variable for every run, e.g. --var L 0.3168; overrides the "
                          "method's own, for every method (e.g. --var thresh 1.03 --var every 100) "
@@ -137,11 +153,13 @@ def main():
     tag = f"balance_{args.scene}"
 
     extra = dict(EXTRA.get(args.scene, {}), **dict(args.var))
-    methods = {k: v for k, v in FRACDEM_METHODS.items()
-               if not args.methods or any(m in k for m in args.methods)}
-    lammps_methods = {k: v for k, v in LAMMPS_METHODS.items()
-                      if not args.methods or any(m in k for m in args.methods)}
-    want_floor = args.scene == "settle" and (not args.methods or
+    def wanted(name):
+        return ((not args.methods or any(m in name for m in args.methods))
+                and not any(m in name for m in args.skip))
+
+    methods = {k: v for k, v in FRACDEM_METHODS.items() if wanted(k)}
+    lammps_methods = {k: v for k, v in LAMMPS_METHODS.items() if wanted(k)}
+    want_floor = args.scene.startswith("settle") and (not args.methods or
                                              any(m in NOISE_FLOOR for m in args.methods))
     rows, rank_work, history = [], {}, {}
     for np_ in args.ranks:
@@ -186,7 +204,8 @@ def main():
             for name, bal in lammps_methods.items():
                 loops, last = [], None
                 for _ in range(reps):
-                    stats, _ = run_one(lmp, lammps_script, np_, dict(steps=steps, balance=bal, **dict(args.var)))
+                    lvars = dict(dict(steps=steps, balance=bal), **extra)
+                    stats, _ = run_one(lmp, lammps_script, np_, lvars)
                     loops.append(stats["loop_s"])
                     last = stats
                 stats = last

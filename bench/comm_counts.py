@@ -8,7 +8,12 @@ too) at the checks in the window, from fix balance/graph's CSV; for LAMMPS the m
 per-rank neighbour pairs at the end (what `fix balance rcb weight neigh` balances).
 
     python3 bench/comm_counts.py [--exe build/fracdem] [--ranks 4 8 16] [--steps 400 1400]
+        [--scene settle|settle_large|hopper_large] [--var NAME VALUE]
         [--csv bench/results/comm_counts.csv] [--png bench/results/comm_counts.png]
+
+The large scenes (issue #11 item 6) are those of bench/balance_compare.py: the settling bed 4 x 4
+times as wide (85 536 spheres) and the pre-filled large hopper (no LAMMPS reference: LAMMPS has
+no FE body).
 """
 import argparse
 import csv
@@ -23,16 +28,18 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "support"))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 import mpicount  # noqa: E402
 
-METHODS = {  # name -> (input, variables)
-    "stock slabs": ("in.settle_fracdem", dict(thresh="1e30", cost="counts", every=200)),
-    "graph a posteriori counts": ("in.settle_fracdem", dict(thresh=1.05, cost="counts",
-                                                             every=200)),
-    "graph a posteriori counts rcb": ("in.settle_fracdem", dict(thresh=1.05, cost="counts",
-                                                                 every=200, partitioner="rcb")),
-    "graph a posteriori counts rcb, diffusion": ("in.settle_fracdem",
-                                                 dict(thresh=1.05, cost="counts", every=200,
-                                                      partitioner="rcb repartition refine")),
-    "LAMMPS rcb neigh": ("in.settle_lammps", dict(balance="rcb_neigh", every=200, thresh=1.05)),
+METHODS = {  # name -> variables of the scene's fracdem input (LAMMPS: of its LAMMPS input)
+    "stock slabs": dict(thresh="1e30", cost="counts", every=200),
+    "graph a posteriori counts": dict(thresh=1.05, cost="counts", every=200),
+    "graph a posteriori counts rcb": dict(thresh=1.05, cost="counts", every=200, partitioner="rcb"),
+    "graph a posteriori counts rcb, diffusion": dict(thresh=1.05, cost="counts", every=200,
+                                                     partitioner="rcb repartition refine"),
+    "LAMMPS rcb neigh": dict(balance="rcb_neigh", every=200, thresh=1.05),
+}
+SCENES = {  # scene -> (fracdem input, LAMMPS input or None, scene variables, mesh writer)
+    "settle": ("in.settle_fracdem", "in.settle_lammps", {}, None),
+    "settle_large": ("in.settle_fracdem", "in.settle_lammps", dict(L=0.6336), None),
+    "hopper_large": ("in.hopper_large_fracdem", None, {}, "hopper_large"),
 }
 DEFAULT_METHODS = ["stock slabs", "graph a posteriori counts", "graph a posteriori counts rcb",
                    "LAMMPS rcb neigh"]
@@ -59,10 +66,18 @@ def balance_figures(wd, first_step):
             "repartitions": sum(int(r["repartitioned"]) for r in window)}
 
 
-def measure(exe, lib, method, np_, steps, sites):
-    script, variables = METHODS[method]
+def measure(exe, lib, method, np_, steps, sites, scene="settle", extra=None):
+    fracdem_in, lammps_in, scene_vars, mesh = SCENES[scene]
+    script = lammps_in if method.startswith("LAMMPS") else fracdem_in
+    variables = dict(METHODS[method], **scene_vars, **(extra or {}))
+    if METHODS[method].get("thresh") == "1e30":
+        variables["thresh"] = "1e30"  # the stock slabs stay unbalanced whatever --var says
     wd = tempfile.mkdtemp(prefix="comm_counts_")
     shutil.copy(os.path.join(HERE, "inputs", script), wd)
+    if mesh:
+        import balance_compare  # noqa: E402
+
+        balance_compare.write_mesh(mesh, wd)
     runs, text = [], ""
     for n in steps:
         text, ranks = mpicount.run(exe, script, np_, wd, lib, f"s{n}", dict(variables, steps=n))
@@ -84,7 +99,7 @@ def measure(exe, lib, method, np_, steps, sites):
     return s
 
 
-def plot(rows, path):
+def plot(rows, path, suptitle):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -124,7 +139,7 @@ def plot(rows, path):
         if key == "B":
             ax.set_ylim(1.0, None)
     axes[0].legend(fontsize=7)
-    fig.suptitle("Settling bed (5346 spheres): exact MPI counts, steps in the window")
+    fig.suptitle(suptitle)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -138,6 +153,9 @@ def main():
     ap.add_argument("--steps", type=int, nargs=2, default=[400, 1400])
     ap.add_argument("--methods", nargs="+", default=DEFAULT_METHODS, choices=list(METHODS))
     ap.add_argument("--sites", type=int, default=0, help="list the N busiest call sites")
+    ap.add_argument("--scene", choices=sorted(SCENES), default="settle")
+    ap.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
+                    help="input variable for every run (e.g. --var every 100), over the method's")
     ap.add_argument("--csv", help="write one row per method and rank count here")
     ap.add_argument("--png", help="plot partners, messages and B here")
     a = ap.parse_args()
@@ -149,11 +167,14 @@ def main():
         for method in a.methods:
             exe = exe_path
             if method.startswith("LAMMPS"):
+                if not SCENES[a.scene][1]:
+                    print(f"note: {method} skipped: no LAMMPS input for scene {a.scene}")
+                    continue
                 if not lmp:
                     print(f"note: {method} skipped: Debian `lmp` is not installed")
                     continue
                 exe = lmp
-            s = measure(exe, lib, method, np_, a.steps, a.sites)
+            s = measure(exe, lib, method, np_, a.steps, a.sites, a.scene, dict(a.var))
             print(method, "|", mpicount.format_summary(s), "| model B",
                   f"{s.get('model_B', float('nan')):.4f}", flush=True)
             rows.append((method, np_, s))
@@ -185,7 +206,10 @@ def main():
                 w.writerow([method, np_] + [s.get(c, "") if not isinstance(s.get(c), float)
                                             else f"{s[c]:.6g}" for c in cols[2:]])
     if a.png and rows:
-        plot(rows, a.png)
+        titles = {"settle": "Settling bed (5346 spheres)",
+                  "settle_large": "Large settling bed (85 536 spheres)",
+                  "hopper_large": "Large hopper (rigid fem/body, 87 317 spheres)"}
+        plot(rows, a.png, f"{titles[a.scene]}: exact MPI counts, steps {a.steps[0]}-{a.steps[1]}")
 
 
 if __name__ == "__main__":

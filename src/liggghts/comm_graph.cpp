@@ -28,6 +28,7 @@ CommGraph::CommGraph(LAMMPS* lmp) : Comm(lmp) {}
 
 CommGraph::~CommGraph()
 {
+  report_borders_stats();
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (gcomm_ != MPI_COMM_NULL && !finalized) MPI_Comm_free(&gcomm_);

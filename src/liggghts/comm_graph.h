@@ -102,6 +102,20 @@ public:
   } // cumulative, repartition exchanges
 
 private:
+  // Opt-in (environment FRACDEM_BORDERS_STATS) cumulative cost of graph-mode borders, printed per
+  // rank at the end: calls, owned atoms summed over calls, thread CPU, of which inside MPI.
+  struct BordersStats {
+    long calls = 0;
+    double owned = 0, cpu = 0, mpi_cpu = 0;
+  };
+  static bool borders_stats_wanted();
+  void borders_stats_begin();
+  void borders_stats_end(int nlocal);
+  void report_borders_stats() const;
+  const bool stats_on_ = borders_stats_wanted();
+  BordersStats stats_;
+  double stats_cpu0_ = 0, stats_mpi0_ = 0;
+
   // Callbacks of one communication: pack swap iswap's data into buf (returns doubles written),
   // unpack swap iswap's data from buf.
   using PackFn = std::function<int(int iswap, double* buf)>;

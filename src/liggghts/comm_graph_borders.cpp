@@ -781,6 +781,7 @@ void CommGraph::borders()
     Comm::borders();
     return;
   }
+  borders_stats_begin();
   bin_atoms();
   compute_span();
   compute_bricks();
@@ -790,5 +791,6 @@ void CommGraph::borders()
   build_owner_window();
   search_ghosts();
   send_borders();
+  borders_stats_end(atom->nlocal);
   if (map_style) atom->map_set();
 }
