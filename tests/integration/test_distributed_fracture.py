@@ -1,0 +1,129 @@
+"""fix fem/body ... parallel distributed with fracture nodal: a body that breaks gives the same
+run at 1, 2, 3 and 4 ranks (issue #13 item 3).
+
+Scene (inputs/in.distributed_fracture): the free Rankine tet4 bar of in.fracture_cut_3d (1536
+tets, concrete-like f_t 3 MPa, G_f 100 N/m: CEB-FIP Model Code 1990 ranges), its halves thrown
+apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel distributed`:
+
+* boundary cracks (`fracture nodal every 5`) at np 2, 3, 4: the same log lines of every split,
+  cut and fragment count (same steps, nodes, copies, normals to 3 decimals), the same node and
+  fragment counts, every energy-file column within 1e-10 of its scale (largest |value| of the
+  column; the issue's figure), every thermo column within 1e-10 of its scale (momenta: of the
+  bar's m v);
+* cracks through tets (`min_size 0.2`) at np 3: the same;
+* three steel spheres hitting the bar across its crack (facet ghosts of the changed parts) at
+  np 2 against np 1: thermo (particle kinetic energy, body energies, contact count, momenta)
+  within 1e-10 of each column's scale.
+"""
+import os
+import re
+import sys
+import tempfile
+
+import numpy as np
+
+import harness as h
+
+args = h.parse_args()
+sys.path.insert(0, os.path.join(h.ROOT, "python"))
+from fracdem import meshgen  # noqa: E402
+
+MASS, SPEED = 2400 * 0.16 * 0.04 * 0.04, 5.0
+TOL = 1e-10
+
+
+def tet_bar(path):
+    """in.fracture_cut_3d's bar (test_fracture_cut.tet_bar): a 16 x 4 x 4 box of Kuhn tets
+    sheared by x += 0.5 y; groups left / right: faces of the tets wholly left / right of the
+    middle."""
+    X, E, _ = meshgen.box_tet_mesh(16, 4, 4, 0.16, 0.04, 0.04)
+    X = np.array(X, dtype=float)
+    s = X[:, 0].copy()
+    X[:, 0] += 0.5 * X[:, 1]
+    faces = {"left": [], "right": []}
+    for t in E:
+        for name, side in (("left", s[t] < 0.08 - 1e-9), ("right", s[t] > 0.08 + 1e-9)):
+            if side.all():
+                faces[name] += [(t[0], t[1], t[2]), (t[0], t[1], t[3]), (t[0], t[2], t[3]),
+                                (t[1], t[2], t[3])]
+    meshgen.write_gmsh22(path, X, E, {k: np.array(v) for k, v in faces.items()})
+
+
+def run(np_, parallel, frac, steps, balls=0):
+    wd = tempfile.mkdtemp(prefix=f"distributed_fracture_{np_}_")
+    tet_bar(os.path.join(wd, "bar3d.msh"))
+    h.copy_inputs(["in.distributed_fracture"], wd)
+    out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
+                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "steps": steps,
+                           "speed": SPEED, "balls": balls})
+    with open(os.path.join(wd, "log.liggghts")) as f:
+        log = f.read()
+    events = [ln for ln in log.splitlines()
+              if re.search(r"crack at node|crack through element|fragments, masses|eroded", ln)]
+    return dict(out=out, events=events, energy=h.read_csv(os.path.join(wd, "energy.csv")),
+                thermo=h.thermo_blocks(out)[-1])
+
+
+def worst_energy(a, b):
+    worst, name = 0.0, ""
+    for col in a:
+        ra, rb = np.array(a[col], float), np.array(b[col], float)
+        if ra.shape != rb.shape:
+            return float("inf"), col
+        scale = max(np.max(np.abs(ra)), 1e-300)
+        w = float(np.max(np.abs(ra - rb))) / scale
+        if w > worst:
+            worst, name = w, col
+    return worst, name
+
+
+def worst_thermo(a, b):
+    (ha, ra), (hb, rb) = a, b
+    if ha != hb or len(ra) != len(rb):
+        return float("inf"), "shape"
+    ra, rb = np.array(ra), np.array(rb)
+    worst, name = 0.0, ""
+    for j, col in enumerate(ha):
+        scale = MASS * SPEED if col in ("body[13]", "body[14]", "body[15]") else \
+            max(np.max(np.abs(ra[:, j])), 1e-300)
+        w = float(np.max(np.abs(ra[:, j] - rb[:, j]))) / scale
+        if w > worst:
+            worst, name = w, col
+    return worst, name
+
+
+def compare(label, ref, other):
+    h.check(len(ref["events"]) > 0 and other["events"] == ref["events"],
+            f"{label}: the same {len(ref['events'])} split / cut / fragment log lines")
+    w, col = worst_energy(ref["energy"], other["energy"])
+    h.check(w < TOL, f"{label}: energy file within {w:.1e} of each column's scale "
+                     f"(worst: {col}; tolerance {TOL:g})")
+    w, col = worst_thermo(ref["thermo"], other["thermo"])
+    h.check(w < TOL, f"{label}: thermo within {w:.1e} of each column's scale (worst: {col})")
+
+
+# Boundary cracks: np 2, 3, 4 against np 1.
+ref = run(1, "replicated", "every 5", 600)
+e = ref["energy"]
+h.check(e["fragments"][-1] >= 2 and e["split_nodes"][-1] > 0,
+        f"the bar breaks: {int(e['split_nodes'][-1])} split nodes, "
+        f"{int(e['fragments'][-1])} fragments")
+for np_ in (2, 3, 4):
+    compare(f"every 5, np {np_} distributed", ref, run(np_, "distributed", "every 5", 600))
+
+# Cracks through tets.
+ref_cut = run(1, "replicated", "every 5 min_size 0.2", 1000)
+h.check(any("crack through element" in ln for ln in ref_cut["events"]),
+        "min_size 0.2: elements are cut")
+compare("min_size 0.2, np 3 distributed", ref_cut,
+        run(3, "distributed", "every 5 min_size 0.2", 1000))
+
+# Spheres hitting the breaking body: facet ghosts of the parts after each change.
+ref_b = run(1, "replicated", "every 5", 600, balls=1)
+hdr, rows = ref_b["thermo"]
+dist_b = run(2, "distributed", "every 5", 600, balls=1)
+compare("spheres on the breaking bar, np 2 distributed", ref_b, dist_b)
+ke = [r[hdr.index("KinEng")] for r in rows]
+h.check(min(ke) < 0.5 * ke[0], f"the spheres hit the bar (their kinetic energy "
+                               f"{ke[0]:.3g} -> {min(ke):.3g} J)")
+print("OK")
