@@ -10,13 +10,17 @@ apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel dis
   fragment counts, every energy-file column within 1e-10 of its scale (largest |value| of the
   column; the issue's figure), every thermo column within 1e-10 of its scale (momenta: of the
   bar's m v);
-* cracks through tets (`min_size 0.2`) at np 3: the same;
+* cracks through tets (`min_size 0.2`) at np 3: the same; its restart file, written at step 500
+  (after the first cuts and splits, before the last), continued at np 2 distributed and at np 1
+  replicated: the log lines after step 500, thermo and energy-file rows as the uninterrupted
+  run's, within 1e-10 of each column's scale;
 * three steel spheres hitting the bar across its crack (facet ghosts of the changed parts) at
   np 2 against np 1: thermo (particle kinetic energy, body energies, contact count, momenta)
   within 1e-10 of each column's scale.
 """
 import os
 import re
+import shutil
 import sys
 import tempfile
 
@@ -30,6 +34,7 @@ from fracdem import meshgen  # noqa: E402
 
 MASS, SPEED = 2400 * 0.16 * 0.04 * 0.04, 5.0
 TOL = 1e-10
+RESTART_AT = 500  # after the first cuts, before the last (the min_size run's)
 
 
 def tet_bar(path):
@@ -49,25 +54,46 @@ def tet_bar(path):
     meshgen.write_gmsh22(path, X, E, {k: np.array(v) for k, v in faces.items()})
 
 
-def run(np_, parallel, frac, steps, balls=0):
-    wd = tempfile.mkdtemp(prefix=f"distributed_fracture_{np_}_")
-    tet_bar(os.path.join(wd, "bar3d.msh"))
-    h.copy_inputs(["in.distributed_fracture"], wd)
-    out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
-                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "steps": steps,
-                           "speed": SPEED, "balls": balls})
+def result(wd, out, energy="energy.csv"):
     with open(os.path.join(wd, "log.liggghts")) as f:
         log = f.read()
     events = [ln for ln in log.splitlines()
               if re.search(r"crack at node|crack through element|fragments, masses|eroded", ln)]
-    return dict(out=out, events=events, energy=h.read_csv(os.path.join(wd, "energy.csv")),
-                thermo=h.thermo_blocks(out)[-1])
+    blocks = h.thermo_blocks(out)
+    rows = [r for _, rs in blocks for r in rs]
+    return dict(wd=wd, out=out, events=events, energy=h.read_csv(os.path.join(wd, energy)),
+                thermo=(blocks[-1][0], rows))
+
+
+def run(np_, parallel, frac, steps, balls=0, restart_at=0):
+    wd = tempfile.mkdtemp(prefix=f"distributed_fracture_{np_}_")
+    tet_bar(os.path.join(wd, "bar3d.msh"))
+    h.copy_inputs(["in.distributed_fracture", "in.distributed_fracture_continue"], wd)
+    out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
+                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "steps": steps,
+                           "speed": SPEED, "balls": balls, "restart_at": restart_at})
+    return result(wd, out)
+
+
+def resume(wd, np_, parallel, frac, rest):
+    """in.distributed_fracture_continue in a copy of wd (its restart file and mesh)."""
+    wd2 = tempfile.mkdtemp(prefix=f"distributed_fracture_continue_{np_}_")
+    for f in ("bar.restart", "bar3d.msh", "in.distributed_fracture_continue"):
+        shutil.copy(os.path.join(wd, f), wd2)
+    out = h.run(args.exe, "in.distributed_fracture_continue", np_=np_, workdir=wd2,
+                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "rest": rest,
+                           "speed": SPEED})
+    return result(wd2, out, "energy_continued.csv")
 
 
 def worst_energy(a, b):
+    """b may start later (a continued run): rows matched by step."""
     worst, name = 0.0, ""
+    rows = [a["step"].index(s) for s in b["step"] if s in a["step"]]
+    if len(rows) != len(b["step"]) or not rows:
+        return float("inf"), "step"
     for col in a:
-        ra, rb = np.array(a[col], float), np.array(b[col], float)
+        ra, rb = np.array(a[col], float)[rows], np.array(b[col], float)
         if ra.shape != rb.shape:
             return float("inf"), col
         scale = max(np.max(np.abs(ra)), 1e-300)
@@ -78,10 +104,12 @@ def worst_energy(a, b):
 
 
 def worst_thermo(a, b):
+    """Rows of b matched to a's by step (b may be a continued run's)."""
     (ha, ra), (hb, rb) = a, b
-    if ha != hb or len(ra) != len(rb):
+    by_step = {r[0]: r for r in ra}
+    if ha != hb or not rb or any(r[0] not in by_step for r in rb):
         return float("inf"), "shape"
-    ra, rb = np.array(ra), np.array(rb)
+    ra, rb = np.array([by_step[r[0]] for r in rb]), np.array(rb)
     worst, name = 0.0, ""
     for j, col in enumerate(ha):
         scale = MASS * SPEED if col in ("body[13]", "body[14]", "body[15]") else \
@@ -92,9 +120,11 @@ def worst_thermo(a, b):
     return worst, name
 
 
-def compare(label, ref, other):
-    h.check(len(ref["events"]) > 0 and other["events"] == ref["events"],
-            f"{label}: the same {len(ref['events'])} split / cut / fragment log lines")
+def compare(label, ref, other, after=-1):
+    """after: a continued run's first step (its events from there on)."""
+    events = [ln for ln in ref["events"] if int(re.search(r"step (\d+):", ln).group(1)) > after]
+    h.check(len(events) > 0 and other["events"] == events,
+            f"{label}: the same {len(events)} split / cut / fragment log lines")
     w, col = worst_energy(ref["energy"], other["energy"])
     h.check(w < TOL, f"{label}: energy file within {w:.1e} of each column's scale "
                      f"(worst: {col}; tolerance {TOL:g})")
@@ -115,8 +145,15 @@ for np_ in (2, 3, 4):
 ref_cut = run(1, "replicated", "every 5 min_size 0.2", 1000)
 h.check(any("crack through element" in ln for ln in ref_cut["events"]),
         "min_size 0.2: elements are cut")
-compare("min_size 0.2, np 3 distributed", ref_cut,
-        run(3, "distributed", "every 5 min_size 0.2", 1000))
+cut3 = run(3, "distributed", "every 5 min_size 0.2", 1000, restart_at=RESTART_AT)
+compare("min_size 0.2, np 3 distributed", ref_cut, cut3)
+
+# The cracked distributed body written at np 3 goes on at np 2 distributed and at np 1
+# replicated (the record is the whole body's) as the uninterrupted run.
+for np_, parallel in ((2, "distributed"), (1, "replicated")):
+    compare(f"restart at step {RESTART_AT} of np 3, continued at np {np_} {parallel}", ref_cut,
+            resume(cut3["wd"], np_, parallel, "every 5 min_size 0.2", 1000 - RESTART_AT),
+            after=RESTART_AT)
 
 # Spheres hitting the breaking body: facet ghosts of the parts after each change.
 ref_b = run(1, "replicated", "every 5", 600, balls=1)
