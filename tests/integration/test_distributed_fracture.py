@@ -10,6 +10,9 @@ apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel dis
   fragment counts, every energy-file column within 1e-10 of its scale (largest |value| of the
   column; the issue's figure), every thermo column within 1e-10 of its scale (momenta: of the
   bar's m v);
+* item 4: at np 3 with `rebalance 1.2 every 20` the damage gathering in the middle part (damaged
+  elements modelled at twice the cost) logs a repartition (max/mean above 1.2, predicted below,
+  elements moved) and the run stays the np 1 run (same lines, 1e-10);
 * cracks through tets (`min_size 0.2`) at np 3: the same; its restart file, written at step 500
   (after the first cuts and splits, before the last), continued at np 2 distributed and at np 1
   replicated: the log lines after step 500, thermo and energy-file rows as the uninterrupted
@@ -140,6 +143,18 @@ h.check(e["fragments"][-1] >= 2 and e["split_nodes"][-1] > 0,
         f"{int(e['fragments'][-1])} fragments")
 for np_ in (2, 3, 4):
     compare(f"every 5, np {np_} distributed", ref, run(np_, "distributed", "every 5", 600))
+
+# Item 4: the damage gathers in the middle part of np 3's slabs; its modelled work (damaged
+# elements cost twice) passes 1.2 times the mean, the body is repartitioned, the run unchanged.
+reb = run(3, "distributed rebalance 1.2 every 20", "every 5", 600)
+lines = re.findall(r"step (\d+): parts max/mean ([0-9.]+) > 1.2, repartitioned \(predicted "
+                   r"([0-9.]+), (\d+) elements moved\)", "\n".join(
+                       open(os.path.join(reb["wd"], "log.liggghts")).read().splitlines()))
+h.check(len(lines) > 0 and all(float(m) > 1.2 and float(p) < 1.2 and int(n) > 0
+                               for _, m, p, n in lines),
+        f"rebalance 1.2 every 20 at np 3: {len(lines)} repartition(s) logged "
+        f"({'; '.join(f'step {s}: {m} -> predicted {p}, {n} moved' for s, m, p, n in lines)})")
+compare("rebalanced np 3", ref, reb)
 
 # Cracks through tets.
 ref_cut = run(1, "replicated", "every 5 min_size 0.2", 1000)

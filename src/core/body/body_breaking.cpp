@@ -3,6 +3,7 @@
 #include "body/body_driver.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 #include "body/body_setup.h"
@@ -10,6 +11,29 @@
 
 namespace fracdem
 {
+
+namespace
+{
+
+// Modelled cost of a damaged element against an intact one of the same type: a damaged Rankine
+// point takes the eigen-solve and spectral split that an intact point below f_t skips (materials/
+// rankine.cpp). A model, not a measurement (docs/distributed_bodies.md).
+constexpr int kDamagedElementCost = 2;
+
+// Per element: its integration points, times kDamagedElementCost where one is damaged; 0 for
+// eroded elements. These are the dual graph's vertex weights and the parts' work.
+std::vector<int64_t> element_costs(const Body& body)
+{
+  const Mesh& mesh = body.mesh();
+  std::vector<int64_t> cost(mesh.num_elems(), 0);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e])
+      cost[e] =
+          points_per_elem(mesh.etype[e]) * (body.element_damaged(e) ? kDamagedElementCost : 1);
+  return cost;
+}
+
+} // namespace
 
 // Each part knows from its own elements whether the check can change anything: every decision of
 // the replicated check (crack points, the collapsed elements it erodes) comes from the elements
@@ -82,7 +106,10 @@ void BodyDriver::count_whole(const Body& whole)
 std::vector<int> BodyDriver::repartition(const Body& whole, const std::vector<int>& owner) const
 {
   const Mesh& mesh = whole.mesh();
-  std::vector<int> part = partition_elements(mesh, host_.nprocs);
+  std::vector<int64_t> cost = element_costs(whole);
+  for (int64_t& c : cost)
+    c = std::max<int64_t>(c, 1); // METIS weights >= 1 (eroded elements take no part anyway)
+  std::vector<int> part = partition_elements(mesh, host_.nprocs, cost);
   std::vector<int> old(owner);
   old.resize(part.size(), -1); // elements made by cuts had no owner
   std::vector<double> moved(part.size(), 1.0);
@@ -134,6 +161,42 @@ void BodyDriver::adopt_part(const std::vector<double>& message)
   host_.sum(&pairs, 1);
   interface_pairs_ = static_cast<long long>(pairs);
   rebuild_surfaces();
+}
+
+// Item 4 of issue #13: every rebalance_every steps the parts compare their modelled work (one
+// max- and one sum-reduction of a double); above rebalance times the mean the body is gathered,
+// partitioned afresh and scattered as after a topology change, and rank 0 logs it.
+void BodyDriver::check_balance(std::int64_t step)
+{
+  const std::vector<int64_t> cost = element_costs(body_);
+  double work[2] = {0, 0};
+  for (int64_t c : cost)
+    work[0] += static_cast<double>(c);
+  work[1] = work[0];
+  host_.max(&work[0], 1);
+  host_.sum(&work[1], 1);
+  const double mean = work[1] / host_.nprocs;
+  if (!(mean > 0) || !(work[0] / mean > spec_->rebalance)) return;
+  Body whole;
+  std::vector<int> owner, elem_part;
+  if (gather_whole(whole, owner)) {
+    elem_part = repartition(whole, owner);
+    std::vector<double> load(host_.nprocs, 0.0);
+    const std::vector<int64_t> whole_cost = element_costs(whole);
+    long moved = 0;
+    for (size_t e = 0; e < elem_part.size(); ++e) {
+      load[elem_part[e]] += static_cast<double>(whole_cost[e]);
+      moved += elem_part[e] != owner[e] ? 1 : 0;
+    }
+    const double predicted = *std::max_element(load.begin(), load.end()) / mean;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "step %lld: parts max/mean %.3g > %g, repartitioned (predicted %.3g, %ld "
+                  "elements moved)\n",
+                  static_cast<long long>(step), work[0] / mean, spec_->rebalance, predicted, moved);
+    print(prefix() + line);
+  }
+  scatter_whole(whole, elem_part);
 }
 
 } // namespace fracdem

@@ -398,6 +398,21 @@ void parse_parallel(SpecReader& r, BodySpec& s)
 {
   s.distributed = r.either("distributed", "replicated");
   s.have_parallel = true;
+  if (!s.distributed || r.done() || r.keyword() != "rebalance") return;
+  r.need(1, "a threshold B > 1 (parts' largest modelled work over the mean)");
+  s.rebalance = r.number(1);
+  if (!(s.rebalance > 1.0))
+    fail("keyword 'parallel distributed rebalance' expects a threshold B > 1 (parts' largest "
+         "modelled work over the mean), got '" +
+         r.word(1) + "'");
+  r.take(2);
+  if (r.done() || r.keyword() != "every") return;
+  r.need(1, "a step count N >= 1");
+  s.rebalance_every = r.whole_number(1);
+  if (s.rebalance_every < 1)
+    fail("keyword 'parallel distributed rebalance B every' expects a step count N >= 1, got '" +
+         r.word(1) + "'");
+  r.take(2);
 }
 
 void parse_contact_bodies(SpecReader& r, BodySpec& s)

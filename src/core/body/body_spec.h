@@ -103,6 +103,10 @@ struct BodySpec {
   // body's size (body_setup.h parallel_choice).
   bool distributed = false;
   bool have_parallel = false;
+  // parallel distributed rebalance B [every N]: a breaking distributed body is repartitioned when
+  // its parts' modelled work drifts above B times the mean, checked every N steps.
+  double rebalance = 1.2;
+  int rebalance_every = 1000;
 
   // Index of the reaction account of a node group (one per group name, in order of appearance).
   int reaction_group(const std::string& set);

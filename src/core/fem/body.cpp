@@ -349,6 +349,15 @@ double Body::element_failure(int e, double normal[3]) const
   return worst;
 }
 
+bool Body::element_damaged(int e) const
+{
+  const int per = material_model_info(material_.model).state_per_point;
+  if (per == 0 || !mesh_.active[e]) return false;
+  for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q)
+    if (point_damaged(material_, &state_[space_.state_offset(e) + q * per])) return true;
+  return false;
+}
+
 int Body::element_failures(std::vector<double>& measure, std::vector<double>& normal) const
 {
   const int ne = mesh_.num_elems();

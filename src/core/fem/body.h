@@ -201,6 +201,9 @@ public:
   // The same for every element at once (normal: 3 per element, set only where measure > 0);
   // undamaged elements cost one comparison per point. Returns the number of damaged elements.
   int element_failures(std::vector<double>& measure, std::vector<double>& normal) const;
+  // Whether a point of element e is damaged, read from its material state (not from the last
+  // force evaluation's list): false for eroded elements and materials without damage.
+  bool element_damaged(int e) const;
   // The elements at failure measure 1 (a point carries no more tension), ascending, as the last
   // force evaluation found them when it covered the whole body (else null: use
   // element_failures). An element eroded since then may be listed.
