@@ -174,6 +174,10 @@ std::string parallel_choice(const BodySpec& spec, long long elements, bool& dist
   if (spec.have_parallel) return "";
   distributed = false;
   const char* refused = distributed_default_refusal(spec);
+  if (refused && spec.fracture_every > 0 && !spec.erosion.on() && !spec.rigid) // when asked
+    return std::string("parallel replicated (by default: the body uses ") + refused +
+           ", which a distributed body does only when asked: 'parallel distributed' with "
+           "'contact_bodies no')";
   if (refused)
     return std::string("parallel replicated (by default: the body uses ") + refused +
            ", which distributed bodies do not do yet)";
