@@ -16,11 +16,13 @@ apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel dis
 * cracks through tets (`min_size 0.2`) at np 3: the same; its restart file, written at step 500
   (after the first cuts and splits, before the last), continued at np 2 distributed and at np 1
   replicated: the log lines after step 500, thermo and energy-file rows as the uninterrupted
-  run's, within 1e-10 of each column's scale;
+  run's, within 1e-10 of each column's scale; its last fem/vtk frame's pieces carry the
+  replicated frame's split, fragment and mesh_element fields (by global number);
 * three steel spheres hitting the bar across its crack (facet ghosts of the changed parts) at
   np 2 against np 1: thermo (particle kinetic energy, body energies, contact count, momenta)
   within 1e-10 of each column's scale.
 """
+import glob
 import os
 import re
 import shutil
@@ -33,7 +35,7 @@ import harness as h
 
 args = h.parse_args()
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
-from fracdem import meshgen  # noqa: E402
+from fracdem import fem, meshgen  # noqa: E402
 
 MASS, SPEED = 2400 * 0.16 * 0.04 * 0.04, 5.0
 TOL = 1e-10
@@ -68,13 +70,14 @@ def result(wd, out, energy="energy.csv"):
                 thermo=(blocks[-1][0], rows))
 
 
-def run(np_, parallel, frac, steps, balls=0, restart_at=0):
+def run(np_, parallel, frac, steps, balls=0, restart_at=0, vtk=0):
     wd = tempfile.mkdtemp(prefix=f"distributed_fracture_{np_}_")
     tet_bar(os.path.join(wd, "bar3d.msh"))
     h.copy_inputs(["in.distributed_fracture", "in.distributed_fracture_continue"], wd)
     out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
                 variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "steps": steps,
-                           "speed": SPEED, "balls": balls, "restart_at": restart_at})
+                           "speed": SPEED, "balls": balls, "restart_at": restart_at,
+                           "vtk": vtk})
     return result(wd, out)
 
 
@@ -157,11 +160,28 @@ h.check(len(lines) > 0 and all(float(m) > 1.2 and float(p) < 1.2 and int(n) > 0
 compare("rebalanced np 3", ref, reb)
 
 # Cracks through tets.
-ref_cut = run(1, "replicated", "every 5 min_size 0.2", 1000)
+ref_cut = run(1, "replicated", "every 5 min_size 0.2", 1000, vtk=1000)
 h.check(any("crack through element" in ln for ln in ref_cut["events"]),
         "min_size 0.2: elements are cut")
-cut3 = run(3, "distributed", "every 5 min_size 0.2", 1000, restart_at=RESTART_AT)
+cut3 = run(3, "distributed", "every 5 min_size 0.2", 1000, restart_at=RESTART_AT, vtk=1000)
 compare("min_size 0.2, np 3 distributed", ref_cut, cut3)
+
+# The last frame's pieces carry the whole body's crack fields: every global node's 'split' and
+# every global element's 'fragment' and 'mesh_element' as in the replicated frame.
+whole = fem.read_vtu(os.path.join(ref_cut["wd"], "bar_0000001000.vtu"))
+pieces = sorted(glob.glob(os.path.join(cut3["wd"], "bar_0000001000_p*.vtu")))
+same, seen = True, set()
+for piece in pieces:
+    d = fem.read_vtu(piece)
+    gn = d["point_data"]["global_node"].astype(int)
+    ge = d["cell_data"]["global_element"].astype(int)
+    seen.update(ge.tolist())
+    same &= np.array_equal(d["point_data"]["split"], whole["point_data"]["split"][gn])
+    for f in ("fragment", "mesh_element"):
+        same &= np.array_equal(d["cell_data"][f], whole["cell_data"][f][ge])
+h.check(len(pieces) == 3 and same and len(seen) == len(whole["cell_data"]["fragment"]),
+        f"np 3 frame: {len(pieces)} pieces hold every element once with the replicated frame's "
+        f"split, fragment and mesh_element fields")
 
 # The cracked distributed body written at np 3 goes on at np 2 distributed and at np 1
 # replicated (the record is the whole body's) as the uninterrupted run.

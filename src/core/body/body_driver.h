@@ -161,6 +161,8 @@ public:
   bool split_element_work() const { return split_element_work_; }
   bool distributed() const { return distributed_; }
   const MeshPart& part() const { return part_; }
+  // A distributed body's part in global numbers, with the whole body's fields for output.
+  const PartTopology& topology() const { return topo_; }
   bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }

@@ -1,6 +1,8 @@
 // Restart records of distributed bodies (see part_restart.h).
 #include "body/part_restart.h"
 
+#include "fem/node_split.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -234,6 +236,10 @@ void PartTopology::reset(int nodes, int elems)
   cut_u.assign(nodes, -1);
   cut_w.assign(nodes, -1);
   elem_parent.assign(elems, -1);
+  node_split.clear();
+  elem_root.clear();
+  elem_fragment.clear();
+  cut = false;
 }
 
 PartTopology whole_topology(const Body& whole)
@@ -246,8 +252,20 @@ PartTopology whole_topology(const Body& whole)
     t.cut_u[cuts[k]] = cuts[k + 1];
     t.cut_w[cuts[k]] = cuts[k + 2];
   }
-  for (int e = 0; e < whole.mesh().num_elems(); ++e)
+  const int ne = whole.mesh().num_elems();
+  t.elem_root.resize(ne);
+  for (int e = 0; e < ne; ++e) {
     t.elem_parent[e] = whole.element_parent(e);
+    int r = e;
+    while (whole.element_parent(r) >= 0)
+      r = whole.element_parent(r);
+    t.elem_root[e] = r;
+  }
+  t.node_split.assign(whole.num_nodes(), 0);
+  for (int n = 0; n < whole.num_nodes(); ++n)
+    if (t.node_parent[n] >= 0) t.node_split[n] = t.node_split[t.node_parent[n]] = 1;
+  element_components(whole.mesh(), t.elem_fragment);
+  t.cut = ne > whole.mesh_elements();
   return t;
 }
 
@@ -444,15 +462,17 @@ std::vector<double> part_message_with_state(const Body& whole, const PartTopolog
     out.resize(out.size() + Body::kNodeRecordSize);
     whole.pack_node(g, out.data() + out.size() - Body::kNodeRecordSize);
     out.insert(out.end(), {double(whole_topo.node_parent[g]), double(whole_topo.cut_u[g]),
-                           double(whole_topo.cut_w[g])});
+                           double(whole_topo.cut_w[g]), double(whole_topo.node_split[g])});
   }
   for (int g : part.global_elem) {
-    out.push_back(whole_topo.elem_parent[g]);
+    out.insert(out.end(), {double(whole_topo.elem_parent[g]), double(whole_topo.elem_root[g]),
+                           double(whole_topo.elem_fragment[g])});
     const int size = whole.element_record_size(g);
     out.push_back(size);
     out.resize(out.size() + size);
     whole.pack_element(g, out.data() + out.size() - size);
   }
+  out.push_back(whole_topo.cut ? 1.0 : 0.0);
   put_accounts(share_of(whole.accounts(), rank == 0), out);
   Body::Outputs none;
   none.reactions.assign(whole.reactions().size(), 0.0);
@@ -466,21 +486,28 @@ void unpack_part_message_state(const std::vector<double>& message, std::size_t a
   const double* p = message.data() + at;
   const int nn = part.num_nodes(), ne = part.mesh.num_elems();
   topo.reset(nn, ne);
+  topo.node_split.resize(nn);
+  topo.elem_root.resize(ne);
+  topo.elem_fragment.resize(ne);
   for (int n = 0; n < nn; ++n) {
     body.unpack_node(n, p);
     p += Body::kNodeRecordSize;
     topo.node_parent[n] = static_cast<int>(p[0]);
     topo.cut_u[n] = static_cast<int>(p[1]);
     topo.cut_w[n] = static_cast<int>(p[2]);
-    p += 3;
+    topo.node_split[n] = static_cast<int>(p[3]);
+    p += 4;
   }
   for (int e = 0; e < ne; ++e) {
     topo.elem_parent[e] = static_cast<int>(p[0]);
-    const int size = static_cast<int>(p[1]);
+    topo.elem_root[e] = static_cast<int>(p[1]);
+    topo.elem_fragment[e] = static_cast<int>(p[2]);
+    const int size = static_cast<int>(p[3]);
     if (size != body.element_record_size(e)) mismatch("part message of another material");
-    body.unpack_element(e, p + 2);
-    p += 2 + size;
+    body.unpack_element(e, p + 4);
+    p += 4 + size;
   }
+  topo.cut = *p++ != 0.0;
   body.set_accounts(get_accounts(p));
   Body::Outputs o;
   add_outputs(p + kAccounts, o);

@@ -43,8 +43,14 @@ void copy_whole_into_part(const Body& whole, Body& body, const MeshPart& part, b
 // Where a part's nodes and elements came from, in global numbers (-1: none): per local node the
 // node it was split from and the ends of the edge it was cut at, per local element the element
 // it was cut from. A body that never broke has all -1.
+// For output (fem/vtk pieces), sent with each new part but not gathered (rank 0 derives them
+// from the whole body): per node 1 where a crack runs through it (a split copy or its parent),
+// per element the mesh element it is a piece of and its fragment, and whether any element was
+// cut (every piece then writes the mesh_element field). Empty / false before the first change.
 struct PartTopology {
   std::vector<int> node_parent, cut_u, cut_w, elem_parent;
+  std::vector<int> node_split, elem_root, elem_fragment;
+  bool cut = false;
   void reset(int nodes, int elems);
 };
 // The same of a whole body (global numbers are its own).
