@@ -1,5 +1,5 @@
-// Restart records of distributed bodies: each part's nodes and elements by global index, merged
-// into one record of the whole body that any rank count (or a replicated body) can read.
+// Restart records of distributed bodies, and the whole-body gather and part scatter of one that breaks:
+// each part by global index, merged into one record of the whole body that any rank count reads.
 #pragma once
 
 #include <vector>
