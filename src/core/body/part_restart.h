@@ -1,5 +1,5 @@
-// Restart records of distributed bodies, and the whole-body gather and part scatter of one that breaks:
-// each part by global index, merged into one record of the whole body that any rank count reads.
+// Distributed bodies: restart records and the gather / scatter of a breaking body, each part by
+// global index, merged into one record of the whole body that any rank count reads.
 #pragma once
 
 #include <vector>
