@@ -53,6 +53,7 @@ public:
   // parallel distributed: this rank holds part() of the body only.
   bool distributed() const { return driver_.distributed(); }
   const fracdem::MeshPart& part() const { return driver_.part(); }
+  const fracdem::PartTopology& topology() const { return driver_.topology(); }
   // Particle contact: per local particle, its facet checks and contacts in the last evaluation
   // (empty without `contact`); read by compute fracdem/cost.
   const fracdem::ParticleFacetContact& contact() const { return driver_.contact(); }

@@ -62,7 +62,7 @@ void FixFemVtkLammps::write_frame()
   try {
     fracdem::write_body_frame(prefix_, update->ntimestep, time, comm->me, comm->nprocs,
                               body_->body(), body_->distributed() ? &body_->part() : nullptr,
-                              *series_);
+                              *series_, body_->distributed() ? &body_->topology() : nullptr);
   } catch (const std::exception& e) {
     error->one(FLERR, std::string("fix fem/vtk: ") + e.what());
   }

@@ -56,6 +56,7 @@ public:
   // parallel distributed: this rank holds part() of the body only.
   bool distributed() const { return driver_.distributed(); }
   const fracdem::MeshPart& part() const { return driver_.part(); }
+  const fracdem::PartTopology& topology() const { return driver_.topology(); }
   const fracdem::Mesh& mesh() const { return body().mesh(); }
   const fracdem::FeSpace& fe_space() const { return body().space(); }
   const std::vector<double>& positions() const { return body().positions(); }

@@ -67,7 +67,7 @@ void FixFemVtk::write_frame()
   try {
     fracdem::write_body_frame(prefix_, update->ntimestep, time, comm->me, comm->nprocs,
                               body_->body(), body_->distributed() ? &body_->part() : nullptr,
-                              *series_);
+                              *series_, body_->distributed() ? &body_->topology() : nullptr);
   } catch (const std::exception& e) {
     const std::string msg = std::string("fix fem/vtk: ") + e.what();
     error->one(FLERR, msg.c_str());

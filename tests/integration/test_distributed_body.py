@@ -18,7 +18,8 @@ twisting by initial velocities, corotational; no particles. Asserted:
   issues no collective between thermo steps but the re-estimate of the sub-cycling (substeps
   auto: one min-reduction of the parts' stable steps every 100 steps, BodyDriver::check_squeezed;
   this test asserted none before the distributed body followed its stable step);
-* refusals: `parallel distributed` with fracture stops naming the keyword (particle contact:
+* refusals: `parallel distributed` with a breaking body's default `contact_bodies yes` and with
+  `erosion` stop naming the keywords (particle contact:
   test_distributed_contact.py).
 """
 import glob
@@ -160,8 +161,12 @@ shutil.rmtree(wd, ignore_errors=True)
 BODY = ("fix body all fem/body file block.msh type 2 density 2400 youngs 3e10 poisson 0.2 "
         "parallel distributed")
 REFUSALS = {
+    # a breaking body's pieces collide by default: both keywords named (breaking distributed
+    # bodies themselves: test_distributed_fracture.py)
     "fracture": ("", " material rankine strength 3e6 fracture_energy 100 fracture nodal",
-                 "does not work with 'fracture'"),
+                 "'contact_bodies yes' (the default of a body with 'fracture')"),
+    "erosion": ("", " material j2 yield 2e8 hardening 1e9 erosion plastic_strain 0.5",
+                "does not work with 'erosion'"),
 }
 for name, (before, extra, expect) in REFUSALS.items():
     wd = tempfile.mkdtemp(prefix="distributed_refuse_")

@@ -701,9 +701,26 @@ TEST(BodySpec, ParallelDistributed)
             "keyword 'parallel' expects distributed or replicated");
   EXPECT_EQ(check_error(body + "parallel distributed"), "");
   const std::string tail = " yet; use 'parallel replicated'";
+  // A breaking body breaks distributed, but its pieces' default contact is refused by name.
   EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
                                "fracture_energy 100 fracture nodal"),
-            "keyword 'parallel distributed' does not work with 'fracture'" + tail);
+            "keyword 'parallel distributed' does not work with 'contact_bodies yes' (the default "
+            "of a body with 'fracture') yet; give 'contact_bodies no' (its fragments then pass "
+            "through each other) or use 'parallel replicated'");
+  EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
+                               "fracture_energy 100 fracture nodal contact_bodies no"),
+            "");
+  const BodySpec r = parse(body + "parallel distributed rebalance 1.5 every 200 gravity no");
+  EXPECT_EQ(r.rebalance, 1.5);
+  EXPECT_EQ(r.rebalance_every, 200);
+  EXPECT_EQ(parse(body + "parallel distributed").rebalance, 1.2);
+  EXPECT_EQ(parse(body + "parallel distributed").rebalance_every, 1000);
+  EXPECT_EQ(error_of(body + "parallel distributed rebalance 1"),
+            "keyword 'parallel distributed rebalance' expects a threshold B > 1 (parts' largest "
+            "modelled work over the mean), got '1'");
+  EXPECT_EQ(error_of(body + "parallel distributed rebalance 1.2 every 0"),
+            "keyword 'parallel distributed rebalance B every' expects a step count N >= 1, got "
+            "'0'");
   EXPECT_EQ(check_error(body + "parallel distributed contact_bodies yes"),
             "keyword 'parallel distributed' does not work with 'contact_bodies yes'" + tail);
   EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "body/body_partition.h"
+#include "body/body_setup.h"
 #include "body/part_restart.h"
 #include "fem/body.h"
 #include "io/mesh_generators.h"
@@ -130,4 +131,67 @@ TEST(PartRestart, MissingPartsAndOtherMeshesAreRefused)
   Body other;
   other.build(make_box_tet_mesh(2, 2, 2, 0.4, 0.3, 0.2), fracdem_test::steel(), false);
   EXPECT_THROW(unpack_parts_record(record.data(), other, nullptr, true), std::runtime_error);
+}
+
+// A broken body (a node split, an edge cut, an element eroded) scattered into parts with its
+// state (part_message_with_state) and gathered back (pack_part_whole, merge_part_wholes,
+// restore_gathered) is the same body: its restart record and every node's whole state
+// (forces included) bit for bit, at 1 to 4 parts.
+TEST(PartRestart, BrokenBodyScatteredAndGatheredIsTheSameBody)
+{
+  Body whole = moving_body();
+  const Mesh& mesh = whole.mesh();
+  const int u = mesh.conn[0][0], w = mesh.conn[0][1];
+  whole.bisect_edge(u, w, 0.4);
+  const double n[3] = {1, 0, 0};
+  int splits = 0;
+  for (int node = 0; node < whole.num_nodes() && splits < 2; ++node) {
+    const SplitPlan plan = whole.plan_split(node, n);
+    if (!plan.splittable()) continue;
+    whole.split_node(plan);
+    ++splits;
+  }
+  ASSERT_EQ(splits, 2);
+  whole.erode({3});
+  std::vector<double> expect;
+  whole.pack_state(expect);
+  const PartTopology topo = whole_topology(whole);
+  const std::vector<double> no_surface = {0.0, 0.0};
+  for (int nparts = 1; nparts <= 4; ++nparts) {
+    std::vector<int> elem_part = partition_elements(whole.mesh(), nparts);
+    elem_part[3] = 0; // the eroded element stays with a part
+    std::vector<double> all;
+    for (int k = 0; k < nparts; ++k) {
+      const std::vector<double> message =
+          part_message_with_state(whole, topo, elem_part, no_surface, k);
+      std::size_t at = 2;
+      const MeshPart part = unpack_part(message, at);
+      unpack_surface(message, at);
+      Body b;
+      b.build(part.mesh, fracdem_test::steel(), false);
+      std::vector<std::uint8_t> owned(part.num_nodes());
+      for (int i = 0; i < part.num_nodes(); ++i)
+        owned[i] = part.owns(i);
+      b.set_counted_nodes(owned);
+      PartTopology mine;
+      unpack_part_message_state(message, at, b, part, mine);
+      const std::vector<double> sent = pack_part_whole(b, part, mine);
+      all.insert(all.end(), sent.begin(), sent.end());
+    }
+    const GatheredBody g = merge_part_wholes(all, whole.num_nodes(), whole.mesh().num_elems(),
+                                             whole.mesh_elements(), false);
+    Body back;
+    back.build(block(), fracdem_test::steel(), false);
+    restore_gathered(g, back);
+    std::vector<double> got;
+    back.pack_state(got);
+    EXPECT_EQ(got, expect) << nparts << " parts";
+    double a[Body::kNodeRecordSize], b[Body::kNodeRecordSize];
+    for (int i = 0; i < whole.num_nodes(); ++i) {
+      whole.pack_node(i, a);
+      back.pack_node(i, b);
+      for (int k = 0; k < Body::kNodeRecordSize; ++k)
+        ASSERT_EQ(a[k], b[k]) << "node " << i << " value " << k << ", " << nparts << " parts";
+    }
+  }
 }

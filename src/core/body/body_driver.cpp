@@ -175,7 +175,7 @@ bool BodyDriver::choose_distributed(int dimension, Mesh& whole, bool& have_whole
     fail(prefix() + "keyword 'parallel distributed' is not available under this host; use "
                     "'parallel replicated'");
   if (spec_->have_parallel && !asked) return false;
-  if (!asked && (!capable || distributed_refusal(*spec_))) {
+  if (!asked && (!capable || distributed_default_refusal(*spec_))) {
     bool unused = false;
     if (capable) print(prefix() + parallel_choice(*spec_, 0, unused) + "\n");
     return false;
@@ -212,6 +212,8 @@ void BodyDriver::build_distributed(Mesh& whole)
   if (host_.rank == 0) {
     elem_part = partition_elements(whole, host_.nprocs);
     packed_surface = pack_surface(global_surface(whole, elem_part));
+    std::vector<int> component;
+    whole_fragments_ = element_components(whole, component); // the energy file's, until a change
   }
   const auto make = [&](int r) { return part_message(whole, elem_part, packed_surface, r); };
   std::vector<double> message = host_.scatter(make);
@@ -221,6 +223,8 @@ void BodyDriver::build_distributed(Mesh& whole)
   GlobalSurface surface;
   part_ = build_body_part(*spec_, message, body_, global_nodes_, global_elems_, &surface);
   std::vector<double>().swap(message);
+  mesh_elems_ = global_elems_;
+  topo_.reset(part_.num_nodes(), body_.mesh().num_elems());
   ghosts_.init(part_, std::move(surface));
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0; // (shared node, neighbouring part) pairs of all parts: the exchange's size
@@ -603,6 +607,9 @@ void BodyDriver::end_step(std::int64_t step, double dt)
   // Fracture first: it erodes the collapsed failed elements, whose stable step the periodic
   // check would otherwise follow for one step.
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
+  // A distributed body's modelled work drifts only where elements can be damaged (item 4).
+  if (distributed_ && spec_->fracture_every > 0 && step % spec_->rebalance_every == 0)
+    check_balance(step);
   if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
   write_energy_row_if_due(step);
 }
@@ -889,18 +896,10 @@ int BodyDriver::body_contacts(std::int64_t step, double dt)
 
 void BodyDriver::fracture(std::int64_t step, double dt)
 {
-  // An intact body (no damaged point in the last force evaluation; the element work of a
-  // breaking body is done on every rank, so all see the same count) has nothing to check.
-  if (body_.damaged_points() == 0) return;
-  FailureMap& map = failure_map_;
-  if (build_failure_map(body_, map) == 0) return;
-  const std::vector<int> points = crack_points(body_.mesh(), map);
+  if (distributed_) return distributed_fracture(step, dt); // body_breaking.cpp
   std::vector<SplitEvent> events;
   std::vector<CutEvent> cuts;
-  if (!points.empty()) events = insert_cracks(body_, points, spec_->min_size, &cuts);
-  const int eroded = erode_collapsed(
-      step, dt, spec_->erode_cracked ? elements_on_crack(body_, map.failed) : map.failed);
-  if (events.empty() && cuts.empty() && eroded == 0) return;
+  if (!crack_body(step, dt, events, cuts)) return;
   // Replicas must stay identical: a rank that split or cut differently stops the run at once.
   const int ne = body_.mesh().num_elems();
   int counts[4] = {body_.num_nodes(), -body_.num_nodes(), ne, -ne};
@@ -909,10 +908,33 @@ void BodyDriver::fracture(std::int64_t step, double dt)
     fail("fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
   if (!cuts.empty()) share_element_work();
   rebuild_surfaces();
+  log_cracks(step, events, cuts);
+  check_step_after_cracks(step, dt, !cuts.empty());
+}
+
+// The decisions of a fracture check on body_ (failure map, crack points, splits and cuts, the
+// collapsed failed elements eroded, with their log lines); whether the topology changed.
+bool BodyDriver::crack_body(std::int64_t step, double dt, std::vector<SplitEvent>& events,
+                            std::vector<CutEvent>& cuts)
+{
+  // An intact body (no damaged point in the last force evaluation; the element work of a
+  // breaking body is done on every rank, so all see the same count) has nothing to check.
+  if (body_.damaged_points() == 0) return false;
+  FailureMap& map = failure_map_;
+  if (build_failure_map(body_, map) == 0) return false;
+  const std::vector<int> points = crack_points(body_.mesh(), map);
+  if (!points.empty()) events = insert_cracks(body_, points, spec_->min_size, &cuts);
+  const int eroded = erode_collapsed(
+      step, dt, spec_->erode_cracked ? elements_on_crack(body_, map.failed) : map.failed);
+  return !(events.empty() && cuts.empty() && eroded == 0);
+}
+
+void BodyDriver::log_cracks(std::int64_t step, const std::vector<SplitEvent>& events,
+                            const std::vector<CutEvent>& cuts)
+{
   log_cuts(step, cuts);
   log_splits(step, events);
   log_fragments(step);
-  check_step_after_cracks(step, dt, !cuts.empty());
 }
 
 // New elements (cracks through elements) join the element work: a body whose work is shared
@@ -930,6 +952,7 @@ void BodyDriver::share_element_work()
 void BodyDriver::check_step_after_cracks(std::int64_t step, double dt, bool cut)
 {
   dt_stable_ = body_.stable_time_step();
+  if (distributed_) host_.min(&dt_stable_, 1); // the smallest of the parts': the whole body's
   follow_stable_step(step, dt, dt_stable_);
   if (!(dt_stable_ < dt / substeps_)) return;
   const std::string msg =
@@ -1038,8 +1061,8 @@ void BodyDriver::write_energy_row_if_due(std::int64_t step)
 }
 
 // The replicated row's columns, each summed over the parts (owned nodes; a group's mean
-// displacement from the sums and counts of its owned nodes). Split nodes, fragments and eroded
-// elements are 0: a distributed body does not break or erode yet.
+// displacement from the sums and counts of its owned nodes). Split nodes and fragments: rank 0's
+// counts of the whole body at the last change (the topology changes nowhere else).
 void BodyDriver::write_distributed_energy_row(std::int64_t step)
 {
   if (step == last_energy_step_) return;
@@ -1056,7 +1079,10 @@ void BodyDriver::write_distributed_energy_row(std::int64_t step)
                            body_.dissipated_energy(),
                            body_.boundary_work(),
                            body_.viscous_work(),
-                           body_.shield_work()};
+                           body_.shield_work(),
+                           static_cast<double>(body_.eroded().elements),
+                           body_.eroded().mass,
+                           body_.eroded().energy};
   const auto& r = body_.reactions();
   for (size_t k = 0; k < 3 * spec_->reaction_groups.size(); ++k)
     v.push_back(k < r.size() ? r[k] : 0.0);
@@ -1073,12 +1099,13 @@ void BodyDriver::write_distributed_energy_row(std::int64_t step)
   host_.sum(v.data(), static_cast<int>(v.size()));
   if (!energy_fp_) return;
   std::FILE* fp = energy_fp_;
-  std::fprintf(fp, "%" PRId64 ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,0,1,%.12g", step,
+  std::fprintf(fp, "%" PRId64 ",%.10g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d,%.12g,%d,%d,%.12g", step,
                body_.time(), v[0], v[1], v[2], v[3], v[0] + v[1], static_cast<int>(v[4]),
-               static_cast<int>(v[5]), v[6], v[7]);
+               static_cast<int>(v[5]), v[6], whole_split_nodes_, whole_fragments_, v[7]);
   if (spec_->viscosity.on) std::fprintf(fp, ",%.12g", v[8]);
+  if (can_erode()) std::fprintf(fp, ",%d,%.12g,%.12g", static_cast<int>(v[10]), v[11], v[12]);
   if (body_.space().axisymmetric()) std::fprintf(fp, ",%.12g", v[9]);
-  size_t k = 10;
+  size_t k = 13;
   for (size_t j = 0; j < 3 * spec_->reaction_groups.size(); ++j)
     std::fprintf(fp, ",%.12g", v[k++]);
   for (size_t g = 0; g < spec_->reaction_groups.size(); ++g, k += 4) {
@@ -1191,8 +1218,24 @@ double BodyDriver::distributed_vector_entry(int i)
     value = ghosts_.contact().search_rebuilds();
     host_.max(&value, 1);
     return value;
+  } else if (i == kVecSplitNodes || i == kVecFragments) { // rank 0 counts the whole body's
+    if (host_.rank == 0) value = i == kVecSplitNodes ? whole_split_nodes_ : whole_fragments_;
   } else if (!body_vector_entry(body_, i, ngroups, value)) {
-    value = i - (kVecSize + 3 * ngroups) == kVecShieldWork ? body_.shield_work() : 0.0;
+    const ErosionAccount& eroded = body_.eroded();
+    switch (i - (kVecSize + 3 * ngroups)) {
+    case kVecShieldWork:
+      value = body_.shield_work();
+      break;
+    case kVecErodedElements:
+      value = eroded.elements;
+      break;
+    case kVecErodedMass:
+      value = eroded.mass;
+      break;
+    case kVecErodedEnergy:
+      value = eroded.energy;
+      break;
+    }
   }
   host_.sum(&value, 1);
   return value;
@@ -1237,6 +1280,13 @@ std::vector<double> BodyDriver::restart_record() const
 // (part_restart.h), which any rank count reads; the other ranks get nothing.
 std::vector<double> BodyDriver::distributed_body_record() const
 {
+  if (broken()) { // the whole body's own record (its topology changed): gathered on rank 0
+    Body whole;
+    std::vector<int> owner;
+    std::vector<double> record;
+    if (gather_whole(whole, owner)) whole.pack_state(record);
+    return record;
+  }
   const std::vector<double> mine = pack_part_state(body_, &part_);
   const std::vector<double> all = host_.gather ? host_.gather(mine) : mine;
   if (host_.rank != 0) return {};
@@ -1273,7 +1323,15 @@ void BodyDriver::read_body_record(const double* record)
   Body whole; // the record of a replicated run: restored whole, then this part taken from it
   build_body(*spec_, dimension_, whole);
   whole.unpack_state(record);
-  copy_whole_into_part(whole, body_, part_, host_.rank == 0);
+  if (split_node_count(whole) == 0 && whole.eroded().elements == 0 && whole.cut_nodes().empty())
+    return copy_whole_into_part(whole, body_, part_, host_.rank == 0);
+  // A broken body: every rank partitions it alike (METIS, fixed seed) and takes its part.
+  const std::vector<int> elem_part = repartition(whole, std::vector<int>());
+  adopt_part(part_message_with_state(whole, whole_topology(whole), elem_part,
+                                     pack_surface(global_surface(whole.mesh(), elem_part)),
+                                     host_.rank));
+  broken_ = true;
+  count_whole(whole);
 }
 
 // The head (after marker and length): placement, then sections. The stored state keeps the

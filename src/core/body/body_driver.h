@@ -17,6 +17,7 @@
 #include "body/body_partition.h"
 #include "body/body_spec.h"
 #include "body/facet_ghosts.h"
+#include "body/part_restart.h"
 #include "fracture/nodal_fracture.h"
 
 namespace fracdem
@@ -160,6 +161,8 @@ public:
   bool split_element_work() const { return split_element_work_; }
   bool distributed() const { return distributed_; }
   const MeshPart& part() const { return part_; }
+  // A distributed body's part in global numbers, with the whole body's fields for output.
+  const PartTopology& topology() const { return topo_; }
   bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }
@@ -195,6 +198,10 @@ private:
                      const std::vector<int>& batch);
   void erode_inverted(std::int64_t step, int e);
   int erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed);
+  bool crack_body(std::int64_t step, double dt, std::vector<SplitEvent>& events,
+                  std::vector<CutEvent>& cuts);
+  void log_cracks(std::int64_t step, const std::vector<SplitEvent>& events,
+                  const std::vector<CutEvent>& cuts);
   void log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const;
   void log_cuts(std::int64_t step, const std::vector<CutEvent>& cuts) const;
   void share_element_work();
@@ -217,6 +224,16 @@ private:
   void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
   double distributed_vector_entry(int i);
   void build_distributed(Mesh& whole);
+  // A distributed body that breaks (body_breaking.cpp): the fracture check on the whole body
+  // gathered on rank 0, and the new parts scattered after a change.
+  void distributed_fracture(std::int64_t step, double dt);
+  bool gather_whole(Body& whole, std::vector<int>& owner) const;
+  std::vector<int> repartition(const Body& whole, const std::vector<int>& owner) const;
+  void scatter_whole(const Body& whole, const std::vector<int>& elem_part);
+  void adopt_part(const std::vector<double>& message);
+  void count_whole(const Body& whole);
+  void check_balance(std::int64_t step);
+  bool broken() const { return global_elems_ != mesh_elems_ || broken_; }
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
   // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state.
@@ -235,6 +252,13 @@ private:
   MeshPart part_;
   std::function<void(double*, int)> shared_sum_;
   int global_nodes_ = 0, global_elems_ = 0;
+  // A distributed body that breaks: the elements of the mesh as read, the part's topology in
+  // global numbers, whether a change came (its restart record is then the whole body's), and,
+  // on rank 0, the whole body's split nodes and fragments since the last change (energy file).
+  int mesh_elems_ = 0;
+  PartTopology topo_;
+  bool broken_ = false;
+  int whole_split_nodes_ = 0, whole_fragments_ = 1;
   long long interface_pairs_ = 0;
   // Particle contact of a distributed body (body_ghost_contact.cpp): facet ghosts by boxes.
   FacetGhosts ghosts_;

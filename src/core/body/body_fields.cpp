@@ -12,12 +12,12 @@
 namespace fracdem
 {
 
-BodyFields::BodyFields(const Body& body)
+BodyFields::BodyFields(const Body& body, const PartTopology* topo)
 {
   add_mechanics(body);
   // Fracture fields only for materials that fail, plastic ones only for plastic materials: an
   // elastic body's frame keeps the five fields it always had.
-  if (material_model_info(body.material().model).fractures) add_fracture(body);
+  if (material_model_info(body.material().model).fractures) add_fracture(body, topo);
   add_plastic(body);
 }
 
@@ -57,7 +57,7 @@ void BodyFields::add_mechanics(const Body& body)
 // ones included, so a plot shows where that energy went); per node: 1 where a crack runs through
 // the node (split nodes and their copies); once cracks cut elements, per element the mesh element
 // it is a piece of.
-void BodyFields::add_fracture(const Body& body)
+void BodyFields::add_fracture(const Body& body, const PartTopology* topo)
 {
   const Mesh& mesh = body.mesh();
   const int ne = mesh.num_elems(), nn = mesh.num_nodes();
@@ -72,12 +72,21 @@ void BodyFields::add_fracture(const Body& body)
   split_.assign(nn, 0.0);
   for (int n = 0; n < nn; ++n)
     if (body.parents()[n] >= 0) split_[n] = split_[body.parents()[n]] = 1.0;
+  const bool broken_part = topo && !topo->elem_fragment.empty();
+  if (broken_part) { // the whole body's figures, which the part alone cannot see
+    fragment_.assign(topo->elem_fragment.begin(), topo->elem_fragment.end());
+    split_.assign(topo->node_split.begin(), topo->node_split.end());
+  }
   fields_.push_back({"damage", 1, damage_.data(), true});
   fields_.push_back({"crack_normal", 3, normal_.data(), true});
   fields_.push_back({"fragment", 1, fragment_.data(), true});
   fields_.push_back({"dissipated_energy", 1, dissipated_.data(), true});
   fields_.push_back({"split", 1, split_.data(), false});
-  if (ne == body.mesh_elements()) return;
+  if (broken_part && topo->cut) {
+    mesh_element_.assign(topo->elem_root.begin(), topo->elem_root.end());
+    fields_.push_back({"mesh_element", 1, mesh_element_.data(), true});
+  }
+  if (broken_part || ne == body.mesh_elements()) return;
   // Cracks through elements: the mesh element each piece comes from (pieces share it).
   mesh_element_.resize(ne);
   for (int e = 0; e < ne; ++e) {
@@ -147,7 +156,8 @@ void write_body_vtu(const std::string& path, const Body& body)
 }
 
 void write_body_frame(const std::string& prefix, long long step, double time, int rank, int nprocs,
-                      const Body& body, const MeshPart* part, PvdSeries& series)
+                      const Body& body, const MeshPart* part, PvdSeries& series,
+                      const PartTopology* topo)
 {
   std::string path = body_frame_path(prefix, step);
   if (!part) {
@@ -155,7 +165,7 @@ void write_body_frame(const std::string& prefix, long long step, double time, in
     write_body_vtu(path, body);
   } else {
     path = path.substr(0, path.size() - 4) + ".pvtu";
-    write_body_piece(path, rank, nprocs, body, *part);
+    write_body_piece(path, rank, nprocs, body, *part, topo);
   }
   if (rank == 0) series.add(time, path);
 }
@@ -167,9 +177,9 @@ std::string body_piece_path(const std::string& pvtu_path, int rank)
 }
 
 void write_body_piece(const std::string& pvtu_path, int rank, int nprocs, const Body& body,
-                      const MeshPart& part)
+                      const MeshPart& part, const PartTopology* topo)
 {
-  const BodyFields f(body);
+  const BodyFields f(body, topo);
   std::vector<VtkField> fields = f.fields();
   const std::vector<double> global_node(part.global_node.begin(), part.global_node.end());
   const std::vector<double> global_elem(part.global_elem.begin(), part.global_elem.end());

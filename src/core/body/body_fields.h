@@ -6,6 +6,7 @@
 
 #include "fem/body.h"
 #include "body/body_partition.h"
+#include "body/part_restart.h"
 #include "io/vtk_writer.h"
 
 namespace fracdem
@@ -21,7 +22,9 @@ namespace fracdem
 class BodyFields
 {
 public:
-  explicit BodyFields(const Body& body);
+  // topo: a broken distributed body's part (its split, fragment and mesh_element fields are the
+  // whole body's, body/part_restart.h); null: the body's own.
+  explicit BodyFields(const Body& body, const PartTopology* topo = nullptr);
   BodyFields(const BodyFields&) = delete;
   BodyFields& operator=(const BodyFields&) = delete;
 
@@ -29,7 +32,7 @@ public:
 
 private:
   void add_mechanics(const Body& body);
-  void add_fracture(const Body& body);
+  void add_fracture(const Body& body, const PartTopology* topo);
   void add_plastic(const Body& body);
 
   std::vector<double> disp_, stress_, mises_, energy_density_;
@@ -69,8 +72,9 @@ std::string body_piece_path(const std::string& pvtu_path, int rank);
 // rank 0 as body_frame_path(prefix, step); a distributed one in pieces (write_body_piece). Rank 0
 // adds the frame to the series. Every rank of a distributed body must call it.
 void write_body_frame(const std::string& prefix, long long step, double time, int rank, int nprocs,
-                      const Body& body, const MeshPart* part, PvdSeries& series);
+                      const Body& body, const MeshPart* part, PvdSeries& series,
+                      const PartTopology* topo = nullptr);
 void write_body_piece(const std::string& pvtu_path, int rank, int nprocs, const Body& body,
-                      const MeshPart& part);
+                      const MeshPart& part, const PartTopology* topo = nullptr);
 
 } // namespace fracdem

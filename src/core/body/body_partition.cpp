@@ -132,7 +132,7 @@ MeshPart extract_part(const Mesh& mesh, const std::vector<int>& elem_part, int p
       c[a] = node_local[mesh.conn[e][a]];
     m.conn.push_back(c);
     m.etype.push_back(mesh.etype[e]);
-    m.active.push_back(1);
+    m.active.push_back(mesh.active.empty() ? 1 : mesh.active[e]); // eroded: a broken body's
     m.region.push_back(mesh.region.empty() ? 0 : mesh.region[e]);
   }
   m.node_sets = restrict_sets(mesh.node_sets, node_local);

@@ -134,7 +134,8 @@ std::vector<double> part_message(const Mesh& whole, const std::vector<int>& elem
 }
 
 MeshPart build_body_part(const BodySpec& spec, const std::vector<double>& message, Body& body,
-                         int& global_nodes, int& global_elems, GlobalSurface* surface)
+                         int& global_nodes, int& global_elems, GlobalSurface* surface,
+                         std::size_t* end)
 {
   MeshPart part;
   try {
@@ -144,6 +145,7 @@ MeshPart build_body_part(const BodySpec& spec, const std::vector<double>& messag
     global_elems = static_cast<int>(message[1]);
     part = unpack_part(message, at);
     if (surface) *surface = unpack_surface(message, at);
+    if (end) *end = at;
   } catch (const std::runtime_error& e) {
     throw SpecError(std::string("keyword 'parallel distributed': ") + e.what(), true);
   }
@@ -171,7 +173,11 @@ std::string parallel_choice(const BodySpec& spec, long long elements, bool& dist
   distributed = spec.distributed;
   if (spec.have_parallel) return "";
   distributed = false;
-  const char* refused = distributed_refusal(spec);
+  const char* refused = distributed_default_refusal(spec);
+  if (refused && spec.fracture_every > 0 && !spec.erosion.on() && !spec.rigid) // when asked
+    return std::string("parallel replicated (by default: the body uses ") + refused +
+           ", which a distributed body does only when asked: 'parallel distributed' with "
+           "'contact_bodies no')";
   if (refused)
     return std::string("parallel replicated (by default: the body uses ") + refused +
            ", which distributed bodies do not do yet)";

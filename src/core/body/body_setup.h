@@ -34,9 +34,11 @@ GlobalSurface unpack_surface(const std::vector<double>& in, std::size_t& at);
 std::vector<double> part_message(const Mesh& whole, const std::vector<int>& elem_part,
                                  const std::vector<double>& packed_surface, int rank);
 // Returns the part; global_nodes / global_elems: the whole body's counts; surface (optional):
-// the whole body's surface and its facets' parts (particle contact). Throws SpecError.
+// the whole body's surface and its facets' parts (particle contact); end (optional): where the
+// message goes on after the surface (the state of a broken body's part). Throws SpecError.
 MeshPart build_body_part(const BodySpec& spec, const std::vector<double>& message, Body& body,
-                         int& global_nodes, int& global_elems, GlobalSurface* surface = nullptr);
+                         int& global_nodes, int& global_elems, GlobalSurface* surface = nullptr,
+                         std::size_t* end = nullptr);
 // All of the above in one process (rank `rank` of `nprocs` reads the mesh itself).
 MeshPart build_body_part(const BodySpec& spec, int dimension, int rank, int nprocs, Body& body,
                          int& global_nodes, int& global_elems, GlobalSurface* surface = nullptr);

@@ -398,6 +398,21 @@ void parse_parallel(SpecReader& r, BodySpec& s)
 {
   s.distributed = r.either("distributed", "replicated");
   s.have_parallel = true;
+  if (!s.distributed || r.done() || r.keyword() != "rebalance") return;
+  r.need(1, "a threshold B > 1 (parts' largest modelled work over the mean)");
+  s.rebalance = r.number(1);
+  if (!(s.rebalance > 1.0))
+    fail("keyword 'parallel distributed rebalance' expects a threshold B > 1 (parts' largest "
+         "modelled work over the mean), got '" +
+         r.word(1) + "'");
+  r.take(2);
+  if (r.done() || r.keyword() != "every") return;
+  r.need(1, "a step count N >= 1");
+  s.rebalance_every = r.whole_number(1);
+  if (s.rebalance_every < 1)
+    fail("keyword 'parallel distributed rebalance B every' expects a step count N >= 1, got '" +
+         r.word(1) + "'");
+  r.take(2);
 }
 
 void parse_contact_bodies(SpecReader& r, BodySpec& s)
@@ -612,10 +627,14 @@ void check_erosion(const BodySpec& s)
 const char* distributed_refusal(const BodySpec& s)
 {
   return s.rigid                ? "'rigid yes'"
-         : s.fracture_every > 0 ? "'fracture'"
          : s.erosion.on()       ? "'erosion'"
          : s.contact_bodies > 0 ? "'contact_bodies yes'"
                                 : nullptr;
+}
+
+const char* distributed_default_refusal(const BodySpec& s)
+{
+  return s.fracture_every > 0 ? "'fracture'" : distributed_refusal(s);
 }
 
 namespace
@@ -626,6 +645,11 @@ void check_distributed(const BodySpec& s)
 {
   if (!s.distributed) return;
   const char* what = distributed_refusal(s);
+  // A breaking body's pieces collide by default: its 'contact_bodies yes' was not asked for.
+  if (what && s.fracture_every > 0 && s.contact_bodies > 0 && !s.rigid && !s.erosion.on())
+    fail("keyword 'parallel distributed' does not work with 'contact_bodies yes' (the default "
+         "of a body with 'fracture') yet; give 'contact_bodies no' (its fragments then pass "
+         "through each other) or use 'parallel replicated'");
   if (what)
     fail(std::string("keyword 'parallel distributed' does not work with ") + what +
          " yet; use 'parallel replicated'");

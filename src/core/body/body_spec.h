@@ -83,7 +83,8 @@ struct BodySpec {
   // ---- body-body contact ----
   int contact_bodies = -1; // -1: default (yes with fracture, else no)
   double contact_penalty = 0.1;
-  bool contact_edges = false; // contact_edges yes|no: edge-to-edge contact (3D) beside node-to-facet
+  bool contact_edges =
+      false; // contact_edges yes|no: edge-to-edge contact (3D) beside node-to-facet
   // contact_balance: how the contact work of all contact_bodies bodies is shared among ranks
   // (given on the first of them, which holds the scene).
   ContactBalance contact_balance;
@@ -102,6 +103,10 @@ struct BodySpec {
   // body's size (body_setup.h parallel_choice).
   bool distributed = false;
   bool have_parallel = false;
+  // parallel distributed rebalance B [every N]: a breaking distributed body is repartitioned when
+  // its parts' modelled work drifts above B times the mean, checked every N steps.
+  double rebalance = 1.2;
+  int rebalance_every = 1000;
 
   // Index of the reaction account of a node group (one per group name, in order of appearance).
   int reaction_group(const std::string& set);
@@ -167,7 +172,10 @@ BodySpec parse_body_spec(const std::vector<std::string>& words, const BodySpecHo
 // Checks the whole spec against the run (atom types 1..ntypes, dimension 2|3) and resolves the
 // defaults (compliance, bulk viscosity, contact_bodies, a rigid body's density). Throws SpecError.
 void check_body_spec(BodySpec& spec, const BodySpecHost& host, int ntypes, int dimension);
-// What of the (checked) spec a distributed body does not do yet ("'fracture'", ...), or null.
+// What of the (checked) spec a distributed body does not do yet ("'erosion'", ...), or null.
 const char* distributed_refusal(const BodySpec& spec);
+// What keeps the body replicated when the spec leaves the choice to its size: the refusals and
+// 'fracture' (a distributed body breaks only when asked: docs/distributed_bodies.md).
+const char* distributed_default_refusal(const BodySpec& spec);
 
 } // namespace fracdem

@@ -1,6 +1,9 @@
 // Restart records of distributed bodies (see part_restart.h).
 #include "body/part_restart.h"
 
+#include "fem/node_split.h"
+
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -186,6 +189,329 @@ void copy_whole_into_part(const Body& whole, Body& body, const MeshPart& part, b
     body.unpack_element(e, values.data());
   }
   body.set_accounts(share_of(whole.accounts(), take_accounts));
+}
+
+/* ----------------------------------------------------------------------
+   a distributed body that breaks: gather whole, scatter in new parts
+------------------------------------------------------------------------- */
+
+namespace
+{
+
+constexpr int kOutputs = 4 + 6; // strain energy, contact force total (3), erosion account (6)
+
+void put_outputs(const Body::Outputs& o, std::vector<double>& buf)
+{
+  buf.insert(buf.end(),
+             {o.strain_energy, o.contact_force_total[0], o.contact_force_total[1],
+              o.contact_force_total[2], double(o.eroded.elements), o.eroded.mass, o.eroded.energy,
+              o.eroded.momentum[0], o.eroded.momentum[1], o.eroded.momentum[2]});
+  buf.push_back(static_cast<double>(o.reactions.size()));
+  buf.insert(buf.end(), o.reactions.begin(), o.reactions.end());
+}
+
+// Reads put_outputs at p, adding to o (o.reactions sized on first use); returns the end.
+const double* add_outputs(const double* p, Body::Outputs& o)
+{
+  o.strain_energy += p[0];
+  for (int d = 0; d < 3; ++d)
+    o.contact_force_total[d] += p[1 + d];
+  o.eroded.elements += static_cast<int>(p[4]);
+  o.eroded.mass += p[5];
+  o.eroded.energy += p[6];
+  for (int d = 0; d < 3; ++d)
+    o.eroded.momentum[d] += p[7 + d];
+  const int nr = static_cast<int>(p[kOutputs]);
+  o.reactions.resize(nr, 0.0);
+  for (int k = 0; k < nr; ++k)
+    o.reactions[k] += p[kOutputs + 1 + k];
+  return p + kOutputs + 1 + nr;
+}
+
+} // namespace
+
+void PartTopology::reset(int nodes, int elems)
+{
+  node_parent.assign(nodes, -1);
+  cut_u.assign(nodes, -1);
+  cut_w.assign(nodes, -1);
+  elem_parent.assign(elems, -1);
+  node_split.clear();
+  elem_root.clear();
+  elem_fragment.clear();
+  cut = false;
+}
+
+PartTopology whole_topology(const Body& whole)
+{
+  PartTopology t;
+  t.reset(whole.num_nodes(), whole.mesh().num_elems());
+  t.node_parent = whole.parents();
+  const std::vector<int>& cuts = whole.cut_nodes();
+  for (size_t k = 0; k + 2 < cuts.size(); k += 3) {
+    t.cut_u[cuts[k]] = cuts[k + 1];
+    t.cut_w[cuts[k]] = cuts[k + 2];
+  }
+  const int ne = whole.mesh().num_elems();
+  t.elem_root.resize(ne);
+  for (int e = 0; e < ne; ++e) {
+    t.elem_parent[e] = whole.element_parent(e);
+    int r = e;
+    while (whole.element_parent(r) >= 0)
+      r = whole.element_parent(r);
+    t.elem_root[e] = r;
+  }
+  t.node_split.assign(whole.num_nodes(), 0);
+  for (int n = 0; n < whole.num_nodes(); ++n)
+    if (t.node_parent[n] >= 0) t.node_split[n] = t.node_split[t.node_parent[n]] = 1;
+  element_components(whole.mesh(), t.elem_fragment);
+  t.cut = ne > whole.mesh_elements();
+  return t;
+}
+
+std::vector<double> pack_part_whole(const Body& body, const MeshPart& part,
+                                    const PartTopology& topo)
+{
+  const Mesh& mesh = body.mesh();
+  const int nn = body.num_nodes(), ne = mesh.num_elems();
+  int owned = 0;
+  for (int n = 0; n < nn; ++n)
+    owned += body.counted(n) ? 1 : 0;
+  std::vector<double> buf = {double(part.part), double(owned), double(ne)};
+  put_accounts(body.accounts(), buf);
+  put_outputs(body.outputs(), buf);
+  const std::vector<int>* failed = body.failed_elements();
+  buf.push_back(body.damaged_points());
+  buf.push_back(failed ? static_cast<double>(failed->size()) : 0.0);
+  if (failed)
+    for (int e : *failed)
+      buf.push_back(part.global_elem[e]);
+  for (int n = 0; n < nn; ++n) {
+    if (!body.counted(n)) continue; // its owner sends it
+    buf.push_back(part.global_node[n]);
+    buf.resize(buf.size() + Body::kNodeRecordSize);
+    body.pack_node(n, buf.data() + buf.size() - Body::kNodeRecordSize);
+    buf.insert(buf.end(),
+               {double(topo.node_parent[n]), double(topo.cut_u[n]), double(topo.cut_w[n])});
+  }
+  for (int e = 0; e < ne; ++e) {
+    buf.insert(buf.end(), {double(part.global_elem[e]), double(mesh.active[e])});
+    for (int a = 0; a < 4; ++a)
+      buf.push_back(mesh.conn[e][a] >= 0 ? part.global_node[mesh.conn[e][a]] : -1.0);
+    buf.push_back(topo.elem_parent[e]);
+    const int size = body.element_record_size(e);
+    buf.push_back(size);
+    buf.resize(buf.size() + size);
+    body.pack_element(e, buf.data() + buf.size() - size);
+  }
+  return buf;
+}
+
+namespace
+{
+
+// The gathered nodes and elements, by global number.
+struct GatheredParts {
+  std::vector<double> node;                   // kNodeRecordSize per node
+  std::vector<int> parent, cut_u, cut_w;      // per node
+  std::vector<int> active, conn, elem_parent; // per element (conn: 4)
+  std::vector<std::vector<double>> values;    // per element: pack_element
+  Body::Accounts accounts;
+};
+
+const double* read_part(const double* p, GatheredParts& g, GatheredBody& out, bool first)
+{
+  const int part = static_cast<int>(p[0]), owned = static_cast<int>(p[1]);
+  const int ne = static_cast<int>(p[2]);
+  const Body::Accounts a = get_accounts(p + 3);
+  if (first) g.accounts.time = a.time; // the clock is every part's
+  g.accounts.external += a.external;
+  g.accounts.contact += a.contact;
+  g.accounts.boundary += a.boundary;
+  g.accounts.shield_work += a.shield_work;
+  g.accounts.shield_hits += a.shield_hits;
+  p = add_outputs(p + 3 + kAccounts, out.outputs);
+  out.damaged += static_cast<int>(p[0]);
+  const int nf = static_cast<int>(p[1]);
+  out.failed.insert(out.failed.end(), p + 2, p + 2 + nf);
+  p += 2 + nf;
+  const int nnodes = static_cast<int>(g.parent.size()), nelems = static_cast<int>(g.active.size());
+  for (int i = 0; i < owned; ++i) {
+    const int n = static_cast<int>(p[0]);
+    if (n < 0 || n >= nnodes) mismatch("node index out of range");
+    std::copy(p + 1, p + 1 + Body::kNodeRecordSize, &g.node[Body::kNodeRecordSize * size_t(n)]);
+    p += 1 + Body::kNodeRecordSize;
+    g.parent[n] = static_cast<int>(p[0]);
+    g.cut_u[n] = static_cast<int>(p[1]);
+    g.cut_w[n] = static_cast<int>(p[2]);
+    p += 3;
+  }
+  for (int i = 0; i < ne; ++i) {
+    const int e = static_cast<int>(p[0]);
+    if (e < 0 || e >= nelems) mismatch("element index out of range");
+    g.active[e] = static_cast<int>(p[1]);
+    for (int a = 0; a < 4; ++a)
+      g.conn[4 * e + a] = static_cast<int>(p[2 + a]);
+    g.elem_parent[e] = static_cast<int>(p[6]);
+    const int size = static_cast<int>(p[7]);
+    g.values[e].assign(p + 8, p + 8 + size);
+    out.owner[e] = part;
+    p += 8 + size;
+  }
+  return p;
+}
+
+// Body::pack_state's layout (fem/body.cpp) from the gathered parts.
+std::vector<double> state_record(const GatheredParts& g, const GatheredBody& out, int mesh_elems,
+                                 bool viscosity)
+{
+  const int nn = static_cast<int>(g.parent.size()), ne = static_cast<int>(g.active.size());
+  std::vector<int> cuts;
+  for (int n = 0; n < nn; ++n)
+    if (g.cut_u[n] >= 0) cuts.insert(cuts.end(), {n, g.cut_u[n], g.cut_w[n]});
+  const bool cut = ne > mesh_elems || !cuts.empty();
+  const Body::Accounts& a = g.accounts;
+  std::vector<double> r = {cut ? 5.0 : 4.0, double(nn), double(ne), a.time, a.external, a.contact};
+  if (cut) {
+    r.push_back(ne - mesh_elems);
+    r.insert(r.end(), g.elem_parent.begin() + mesh_elems, g.elem_parent.end());
+    r.push_back(static_cast<double>(cuts.size() / 3));
+    r.insert(r.end(), cuts.begin(), cuts.end());
+  }
+  const int K = Body::kNodeRecordSize;
+  for (int field : {0, 3, 6, 15}) // X, x, v, prescribed velocity (pack_node's order)
+    for (int n = 0; n < nn; ++n)
+      r.insert(r.end(), &g.node[K * size_t(n) + field], &g.node[K * size_t(n) + field] + 3);
+  for (int field : {18, 19, 20}) // condition + 8 held, ramp, group
+    for (int n = 0; n < nn; ++n)
+      r.push_back(g.node[K * size_t(n) + field]);
+  r.insert(r.end(), g.parent.begin(), g.parent.end());
+  for (int n = 0; n < nn; ++n)
+    r.push_back(g.node[K * size_t(n) + 24]); // mass
+  r.insert(r.end(), g.conn.begin(), g.conn.end());
+  r.insert(r.end(), g.active.begin(), g.active.end());
+  const int tail = viscosity ? 3 : 0;
+  double nstate = 0;
+  for (const std::vector<double>& v : g.values)
+    nstate += static_cast<double>(v.size()) - tail;
+  r.push_back(nstate);
+  for (const std::vector<double>& v : g.values)
+    r.insert(r.end(), v.begin(), v.end() - tail);
+  r.push_back(a.boundary);
+  r.push_back(viscosity ? ne : 0);
+  if (viscosity)
+    for (int k = 3; k >= 1; --k) // work, last force, rate
+      for (const std::vector<double>& v : g.values)
+        r.push_back(v[v.size() - k]);
+  const ErosionAccount& er = out.outputs.eroded;
+  r.insert(r.end(), {double(er.elements), er.mass, er.energy, er.momentum[0], er.momentum[1],
+                     er.momentum[2], a.shield_work, a.shield_hits});
+  return r;
+}
+
+} // namespace
+
+GatheredBody merge_part_wholes(const std::vector<double>& gathered, int global_nodes,
+                               int global_elems, int mesh_elems, bool viscosity)
+{
+  GatheredParts g;
+  g.node.assign(Body::kNodeRecordSize * static_cast<size_t>(global_nodes), 0.0);
+  g.parent.assign(global_nodes, -2); // -2: no part sent it
+  g.cut_u.assign(global_nodes, -1);
+  g.cut_w.assign(global_nodes, -1);
+  g.active.assign(global_elems, -1);
+  g.conn.assign(4 * static_cast<size_t>(global_elems), -1);
+  g.elem_parent.assign(global_elems, -1);
+  g.values.resize(global_elems);
+  GatheredBody out;
+  out.owner.assign(global_elems, -1);
+  const double* p = gathered.data();
+  const double* end = p + gathered.size();
+  for (bool first = true; p < end; first = false)
+    p = read_part(p, g, out, first);
+  for (int n = 0; n < global_nodes; ++n)
+    if (g.parent[n] == -2) mismatch("without node " + std::to_string(n) + " (no part owned it)");
+  for (int e = 0; e < global_elems; ++e)
+    if (g.active[e] < 0) mismatch("without element " + std::to_string(e));
+  std::sort(out.failed.begin(), out.failed.end());
+  out.record = state_record(g, out, mesh_elems, viscosity);
+  out.nodes = std::move(g.node);
+  return out;
+}
+
+void restore_gathered(const GatheredBody& g, Body& whole)
+{
+  whole.unpack_state(g.record.data());
+  for (int n = 0; n < whole.num_nodes(); ++n)
+    whole.unpack_node(n, &g.nodes[Body::kNodeRecordSize * static_cast<size_t>(n)]);
+  whole.set_outputs(g.outputs);
+  whole.set_damage(g.damaged, g.failed);
+}
+
+std::vector<double> part_message_with_state(const Body& whole, const PartTopology& whole_topo,
+                                            const std::vector<int>& elem_part,
+                                            const std::vector<double>& packed_surface, int rank)
+{
+  const Mesh& mesh = whole.mesh();
+  std::vector<double> out = {static_cast<double>(mesh.num_nodes()),
+                             static_cast<double>(mesh.num_elems())};
+  const MeshPart part = extract_part(mesh, elem_part, rank);
+  pack_part(part, out);
+  out.insert(out.end(), packed_surface.begin(), packed_surface.end());
+  for (int g : part.global_node) {
+    out.resize(out.size() + Body::kNodeRecordSize);
+    whole.pack_node(g, out.data() + out.size() - Body::kNodeRecordSize);
+    out.insert(out.end(), {double(whole_topo.node_parent[g]), double(whole_topo.cut_u[g]),
+                           double(whole_topo.cut_w[g]), double(whole_topo.node_split[g])});
+  }
+  for (int g : part.global_elem) {
+    out.insert(out.end(), {double(whole_topo.elem_parent[g]), double(whole_topo.elem_root[g]),
+                           double(whole_topo.elem_fragment[g])});
+    const int size = whole.element_record_size(g);
+    out.push_back(size);
+    out.resize(out.size() + size);
+    whole.pack_element(g, out.data() + out.size() - size);
+  }
+  out.push_back(whole_topo.cut ? 1.0 : 0.0);
+  put_accounts(share_of(whole.accounts(), rank == 0), out);
+  Body::Outputs none;
+  none.reactions.assign(whole.reactions().size(), 0.0);
+  put_outputs(rank == 0 ? whole.outputs() : none, out);
+  return out;
+}
+
+void unpack_part_message_state(const std::vector<double>& message, std::size_t at, Body& body,
+                               const MeshPart& part, PartTopology& topo)
+{
+  const double* p = message.data() + at;
+  const int nn = part.num_nodes(), ne = part.mesh.num_elems();
+  topo.reset(nn, ne);
+  topo.node_split.resize(nn);
+  topo.elem_root.resize(ne);
+  topo.elem_fragment.resize(ne);
+  for (int n = 0; n < nn; ++n) {
+    body.unpack_node(n, p);
+    p += Body::kNodeRecordSize;
+    topo.node_parent[n] = static_cast<int>(p[0]);
+    topo.cut_u[n] = static_cast<int>(p[1]);
+    topo.cut_w[n] = static_cast<int>(p[2]);
+    topo.node_split[n] = static_cast<int>(p[3]);
+    p += 4;
+  }
+  for (int e = 0; e < ne; ++e) {
+    topo.elem_parent[e] = static_cast<int>(p[0]);
+    topo.elem_root[e] = static_cast<int>(p[1]);
+    topo.elem_fragment[e] = static_cast<int>(p[2]);
+    const int size = static_cast<int>(p[3]);
+    if (size != body.element_record_size(e)) mismatch("part message of another material");
+    body.unpack_element(e, p + 4);
+    p += 4 + size;
+  }
+  topo.cut = *p++ != 0.0;
+  body.set_accounts(get_accounts(p));
+  Body::Outputs o;
+  add_outputs(p + kAccounts, o);
+  body.set_outputs(o);
 }
 
 } // namespace fracdem

@@ -1,5 +1,5 @@
-// Restart records of distributed bodies: each part's nodes and elements by global index, merged
-// into one record of the whole body that any rank count (or a replicated body) can read.
+// Distributed bodies: restart records and the gather / scatter of a breaking body, each part by
+// global index, merged into one record of the whole body that any rank count reads.
 #pragma once
 
 #include <vector>
@@ -36,5 +36,60 @@ void unpack_parts_record(const double* record, Body& body, const MeshPart* part,
 // nodes and elements. Throws std::runtime_error when the whole body was cracked or eroded (a
 // distributed body cannot hold changed topology).
 void copy_whole_into_part(const Body& whole, Body& body, const MeshPart& part, bool take_accounts);
+
+// ---- a distributed body that breaks (docs/distributed_bodies.md): gathered whole on rank 0 for
+// a topology change, then scattered again in new parts ----
+
+// Where a part's nodes and elements came from, in global numbers (-1: none): per local node the
+// node it was split from and the ends of the edge it was cut at, per local element the element
+// it was cut from. A body that never broke has all -1.
+// For output (fem/vtk pieces), sent with each new part but not gathered (rank 0 derives them
+// from the whole body): per node 1 where a crack runs through it (a split copy or its parent),
+// per element the mesh element it is a piece of and its fragment, and whether any element was
+// cut (every piece then writes the mesh_element field). Empty / false before the first change.
+struct PartTopology {
+  std::vector<int> node_parent, cut_u, cut_w, elem_parent;
+  std::vector<int> node_split, elem_root, elem_fragment;
+  bool cut = false;
+  void reset(int nodes, int elems);
+};
+// The same of a whole body (global numbers are its own).
+PartTopology whole_topology(const Body& whole);
+
+// What one part contributes to the gathered whole body: its accounts and outputs (Body::Outputs),
+// its damage (damaged points, failed elements by global number), each node it owns (global
+// number, Body::pack_node, parent, cut ends) and each element (global number, active, global
+// connectivity, parent, then Body::pack_element).
+std::vector<double> pack_part_whole(const Body& body, const MeshPart& part,
+                                    const PartTopology& topo);
+
+// Rank 0's merge of every part's pack_part_whole (concatenated, any order).
+struct GatheredBody {
+  std::vector<double> record; // Body::pack_state layout (version 4, 5 with cuts)
+  std::vector<double> nodes;  // Body::kNodeRecordSize per global node (forces included)
+  Body::Outputs outputs;      // summed over the parts
+  int damaged = 0;            // damaged points, summed
+  std::vector<int> failed;    // failed elements, ascending global numbers
+  std::vector<int> owner;     // per global element: the part that held it
+};
+// global_nodes / global_elems: the whole body's counts; mesh_elems: elements of the mesh as read
+// (the others came from cuts); viscosity: the element records carry the viscous accounts.
+// Throws std::runtime_error when a node or element is missing.
+GatheredBody merge_part_wholes(const std::vector<double>& gathered, int global_nodes,
+                               int global_elems, int mesh_elems, bool viscosity);
+// The whole body from the mesh as read (built) and the gathered state.
+void restore_gathered(const GatheredBody& g, Body& whole);
+
+// Rank r's message after a change: part r of the whole body (body_setup.h part_message: mesh
+// part and surface), then its state (each node's pack_node, parent, cut ends; each element's
+// parent and pack_element) and the whole body's accounts and outputs where take_accounts (one
+// part takes them, the others start from zero).
+std::vector<double> part_message_with_state(const Body& whole, const PartTopology& whole_topo,
+                                            const std::vector<int>& elem_part,
+                                            const std::vector<double>& packed_surface, int rank);
+// Restores the state of such a message (at: where it follows the surface) into the part's body
+// built from the message, and the part's topology.
+void unpack_part_message_state(const std::vector<double>& message, std::size_t at, Body& body,
+                               const MeshPart& part, PartTopology& topo);
 
 } // namespace fracdem

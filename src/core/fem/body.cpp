@@ -349,6 +349,15 @@ double Body::element_failure(int e, double normal[3]) const
   return worst;
 }
 
+bool Body::element_damaged(int e) const
+{
+  const int per = material_model_info(material_.model).state_per_point;
+  if (per == 0 || !mesh_.active[e]) return false;
+  for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q)
+    if (point_damaged(material_, &state_[space_.state_offset(e) + q * per])) return true;
+  return false;
+}
+
 int Body::element_failures(std::vector<double>& measure, std::vector<double>& normal) const
 {
   const int ne = mesh_.num_elems();
@@ -865,6 +874,60 @@ void Body::unpack_element(int e, const double* in)
   viscous_work_[e] = in[n];
   viscous_force_prev_[e] = in[n + 1];
   viscous_rate_[e] = in[n + 2];
+}
+
+void Body::pack_node(int n, double* out) const
+{
+  const std::vector<double>* vec3[] = {&mesh_.X, &x_, &v_, &f_, &f_contact_prev_, &v_prescribed_};
+  for (const std::vector<double>* a : vec3)
+    out = std::copy(&(*a)[3 * n], &(*a)[3 * n] + 3, out);
+  *out++ = static_cast<double>(bc_[n]) + 8.0 * held_[n];
+  *out++ = ramp_[n];
+  *out++ = bc_group_[n];
+  for (int d = 0; d < 3; ++d)
+    *out++ = component_group_[3 * n + d];
+  *out = mass_[n];
+}
+
+void Body::unpack_node(int n, const double* in)
+{
+  std::vector<double>* vec3[] = {&mesh_.X, &x_, &v_, &f_, &f_contact_prev_, &v_prescribed_};
+  for (std::vector<double>* a : vec3) {
+    std::copy(in, in + 3, &(*a)[3 * n]);
+    in += 3;
+  }
+  bc_[n] = static_cast<NodeBc>(static_cast<int>(in[0]) % 8);
+  held_[n] = static_cast<std::uint8_t>(static_cast<int>(in[0]) / 8);
+  ramp_[n] = in[1];
+  bc_group_[n] = static_cast<int>(in[2]);
+  for (int d = 0; d < 3; ++d)
+    component_group_[3 * n + d] = static_cast<int>(in[3 + d]);
+  mass_[n] = in[6];
+  inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+}
+
+Body::Outputs Body::outputs() const
+{
+  Outputs o;
+  o.strain_energy = strain_energy_;
+  std::copy(contact_force_total_, contact_force_total_ + 3, o.contact_force_total);
+  o.reactions = reactions_;
+  o.eroded = eroded_;
+  return o;
+}
+
+void Body::set_outputs(const Outputs& o)
+{
+  strain_energy_ = o.strain_energy;
+  std::copy(o.contact_force_total, o.contact_force_total + 3, contact_force_total_);
+  if (o.reactions.size() == reactions_.size()) reactions_ = o.reactions;
+  eroded_ = o.eroded;
+}
+
+void Body::set_damage(int damaged_points, std::vector<int> failed)
+{
+  damaged_points_ = damaged_points;
+  failed_elems_ = std::move(failed);
 }
 
 } // namespace fracdem

@@ -207,6 +207,9 @@ public:
   // The same for every element at once (normal: 3 per element, set only where measure > 0);
   // undamaged elements cost one comparison per point. Returns the number of damaged elements.
   int element_failures(std::vector<double>& measure, std::vector<double>& normal) const;
+  // Whether a point of element e is damaged, read from its material state (not from the last
+  // force evaluation's list): false for eroded elements and materials without damage.
+  bool element_damaged(int e) const;
   // The elements at failure measure 1 (a point carries no more tension), ascending, as the last
   // force evaluation found them when it covered the whole body (else null: use
   // element_failures). An element eroded since then may be listed.
@@ -257,6 +260,27 @@ public:
   int element_record_size(int e) const;
   void pack_element(int e, double* out) const;
   void unpack_element(int e, const double* in);
+
+  // ---- what moves with a node or account when a distributed body that breaks is gathered on one
+  // rank and scattered again (body/part_restart.h) ----
+  // Node n's whole state: reference and current position, velocity, force and held contact force
+  // (the next step's half kick and substeps use them), prescribed velocity, condition and held
+  // components, ramp, reaction groups (the node's and its components'), lumped mass.
+  static constexpr int kNodeRecordSize = 25;
+  void pack_node(int n, double* out) const;
+  void unpack_node(int n, const double* in);
+  // The figures of the last force evaluation that output reads (strain energy, total contact
+  // force, reactions) and the erosion account; a part's share (the body's: the sums).
+  struct Outputs {
+    double strain_energy = 0, contact_force_total[3] = {0, 0, 0};
+    std::vector<double> reactions;
+    ErosionAccount eroded;
+  };
+  Outputs outputs() const;
+  void set_outputs(const Outputs& o);
+  // The damage that the last force evaluation found (of a body gathered from its parts: their
+  // damaged points summed, their failed elements in global numbers, ascending).
+  void set_damage(int damaged_points, std::vector<int> failed);
 
 private:
   void resize_nodes(int nn);

@@ -1,0 +1,202 @@
+// A distributed body that breaks: the fracture check on the whole body gathered on rank 0, and
+// the parts of the changed body scattered again (docs/distributed_bodies.md).
+#include "body/body_driver.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "body/body_setup.h"
+#include "body/part_restart.h"
+
+namespace fracdem
+{
+
+namespace
+{
+
+// Modelled cost of a damaged element against an intact one of the same type: a damaged Rankine
+// point takes the eigen-solve and spectral split that an intact point below f_t skips (materials/
+// rankine.cpp). A model, not a measurement (docs/distributed_bodies.md).
+constexpr int kDamagedElementCost = 2;
+
+// Per element: its integration points, times kDamagedElementCost where one is damaged; 0 for
+// eroded elements. These are the dual graph's vertex weights and the parts' work.
+std::vector<int64_t> element_costs(const Body& body)
+{
+  const Mesh& mesh = body.mesh();
+  std::vector<int64_t> cost(mesh.num_elems(), 0);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e])
+      cost[e] =
+          points_per_elem(mesh.etype[e]) * (body.element_damaged(e) ? kDamagedElementCost : 1);
+  return cost;
+}
+
+} // namespace
+
+// Each part knows from its own elements whether the check can change anything: every decision of
+// the replicated check (crack points, the collapsed elements it erodes) comes from the elements
+// whose last force evaluation found a point that carries no more tension, so without such an
+// element in any part nothing can change. One integer max-reduction tells every rank; while a
+// part holds one, the parts are gathered on rank 0,
+// which runs the replicated check on the whole body (its log lines, its numbering). Without a
+// change one more integer says so and every part goes on untouched; after a change rank 0
+// partitions the new body and every rank takes its new part.
+void BodyDriver::distributed_fracture(std::int64_t step, double dt)
+{
+  int flag = 0;
+  if (body_.damaged_points() > 0)
+    for (int e : *body_.failed_elements()) // a part's evaluation covers all its elements
+      if (body_.mesh().active[e]) flag = 1;
+  host_.max_int(&flag, 1);
+  if (!flag) return;
+  Body whole;
+  std::vector<int> owner;
+  int changed[2] = {0, 0}; // topology changed, elements cut
+  if (gather_whole(whole, owner)) {
+    std::vector<SplitEvent> events;
+    std::vector<CutEvent> cuts;
+    std::swap(body_, whole); // the replicated check and its log lines, on the whole body
+    changed[0] = crack_body(step, dt, events, cuts) ? 1 : 0;
+    changed[1] = cuts.empty() ? 0 : 1;
+    if (changed[0]) log_cracks(step, events, cuts);
+    std::swap(body_, whole);
+  }
+  host_.max_int(changed, 2);
+  if (!changed[0]) return;
+  broken_ = true;
+  std::vector<int> elem_part;
+  if (host_.rank == 0) {
+    count_whole(whole);
+    elem_part = repartition(whole, owner);
+  }
+  scatter_whole(whole, elem_part);
+  check_step_after_cracks(step, dt, changed[1] != 0);
+}
+
+// Every rank sends rank 0 its part (pack_part_whole); rank 0 (true) builds the whole body from the
+// mesh and the gathered state; owner: each element's part.
+bool BodyDriver::gather_whole(Body& whole, std::vector<int>& owner) const
+{
+  const std::vector<double> all = host_.gather(pack_part_whole(body_, part_, topo_));
+  if (host_.rank != 0) return false;
+  try {
+    GatheredBody g = merge_part_wholes(all, global_nodes_, global_elems_, mesh_elems_,
+                                       body_.bulk_viscosity().on);
+    build_body(*spec_, dimension_, whole);
+    restore_gathered(g, whole);
+    owner = std::move(g.owner);
+  } catch (const std::exception& e) {
+    fail_one(prefix() + "gathering the parts of the broken body: " + e.what());
+  }
+  return true;
+}
+
+// The whole body's split nodes and fragments (rank 0 writes them in the energy file).
+void BodyDriver::count_whole(const Body& whole)
+{
+  whole_split_nodes_ = split_node_count(whole);
+  whole_fragments_ = fragment_count(whole);
+}
+
+// METIS parts of the active elements, relabelled so that as many elements as possible stay with
+// the rank that held them (as balance/graph relabels); an eroded element stays where it was (its
+// material state still counts in the dissipated energy; the free nodes it leaves go on moving).
+std::vector<int> BodyDriver::repartition(const Body& whole, const std::vector<int>& owner) const
+{
+  const Mesh& mesh = whole.mesh();
+  std::vector<int64_t> cost = element_costs(whole);
+  for (int64_t& c : cost)
+    c = std::max<int64_t>(c, 1); // METIS weights >= 1 (eroded elements take no part anyway)
+  std::vector<int> part = partition_elements(mesh, host_.nprocs, cost);
+  std::vector<int> old(owner);
+  old.resize(part.size(), -1); // elements made by cuts had no owner
+  std::vector<double> moved(part.size(), 1.0);
+  for (size_t e = 0; e < part.size(); ++e)
+    if (!mesh.active[e]) { // not partitioned (-1): weightless in the relabelling
+      part[e] = 0;
+      moved[e] = 0.0;
+    }
+  part = balance::relabel_max_overlap(part, old, moved, host_.nprocs);
+  for (size_t e = 0; e < part.size(); ++e)
+    if (!mesh.active[e]) part[e] = old[e] >= 0 ? old[e] : 0;
+  return part;
+}
+
+// Rank 0 sends each rank its part of the whole body with its state (one message at a time);
+// every rank builds its part afresh from it.
+void BodyDriver::scatter_whole(const Body& whole, const std::vector<int>& elem_part)
+{
+  std::vector<double> packed_surface;
+  PartTopology topo;
+  if (host_.rank == 0) {
+    packed_surface = pack_surface(global_surface(whole.mesh(), elem_part));
+    topo = whole_topology(whole);
+  }
+  const auto make = [&](int r) {
+    return part_message_with_state(whole, topo, elem_part, packed_surface, r);
+  };
+  adopt_part(host_.scatter(make));
+}
+
+// This rank's part from its message: body, topology, interface sums, facet ghosts, surfaces.
+void BodyDriver::adopt_part(const std::vector<double>& message)
+{
+  GlobalSurface surface;
+  std::size_t at = 0;
+  body_ = Body();
+  try {
+    part_ = build_body_part(*spec_, message, body_, global_nodes_, global_elems_, &surface, &at);
+    unpack_part_message_state(message, at, body_, part_, topo_);
+  } catch (const std::exception& e) {
+    fail_one(prefix() + "taking the new part of the broken body: " + e.what());
+  }
+  ghosts_.init(part_, std::move(surface));
+  boxes_due_ = true;
+  shared_sum_ = host_.shared_sum_for(part_);
+  double pairs = 0;
+  for (const PartNeighbour& nb : part_.neighbours)
+    pairs += static_cast<double>(nb.nodes.size());
+  host_.sum(&pairs, 1);
+  interface_pairs_ = static_cast<long long>(pairs);
+  rebuild_surfaces();
+}
+
+// Item 4 of issue #13: every rebalance_every steps the parts compare their modelled work (one
+// max- and one sum-reduction of a double); above rebalance times the mean the body is gathered,
+// partitioned afresh and scattered as after a topology change, and rank 0 logs it.
+void BodyDriver::check_balance(std::int64_t step)
+{
+  const std::vector<int64_t> cost = element_costs(body_);
+  double work[2] = {0, 0};
+  for (int64_t c : cost)
+    work[0] += static_cast<double>(c);
+  work[1] = work[0];
+  host_.max(&work[0], 1);
+  host_.sum(&work[1], 1);
+  const double mean = work[1] / host_.nprocs;
+  if (!(mean > 0) || !(work[0] / mean > spec_->rebalance)) return;
+  Body whole;
+  std::vector<int> owner, elem_part;
+  if (gather_whole(whole, owner)) {
+    elem_part = repartition(whole, owner);
+    std::vector<double> load(host_.nprocs, 0.0);
+    const std::vector<int64_t> whole_cost = element_costs(whole);
+    long moved = 0;
+    for (size_t e = 0; e < elem_part.size(); ++e) {
+      load[elem_part[e]] += static_cast<double>(whole_cost[e]);
+      moved += elem_part[e] != owner[e] ? 1 : 0;
+    }
+    const double predicted = *std::max_element(load.begin(), load.end()) / mean;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "step %lld: parts max/mean %.3g > %g, repartitioned (predicted %.3g, %ld "
+                  "elements moved)\n",
+                  static_cast<long long>(step), work[0] / mean, spec_->rebalance, predicted, moved);
+    print(prefix() + line);
+  }
+  scatter_whole(whole, elem_part);
+}
+
+} // namespace fracdem

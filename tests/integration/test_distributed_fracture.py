@@ -1,0 +1,201 @@
+"""fix fem/body ... parallel distributed with fracture nodal: a body that breaks gives the same
+run at 1, 2, 3 and 4 ranks (issue #13 item 3).
+
+Scene (inputs/in.distributed_fracture): the free Rankine tet4 bar of in.fracture_cut_3d (1536
+tets, concrete-like f_t 3 MPa, G_f 100 N/m: CEB-FIP Model Code 1990 ranges), its halves thrown
+apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel distributed`:
+
+* boundary cracks (`fracture nodal every 5`) at np 2, 3, 4: the same log lines of every split,
+  cut and fragment count (same steps, nodes, copies, normals to 3 decimals), the same node and
+  fragment counts, every energy-file column within 1e-10 of its scale (largest |value| of the
+  column; the issue's figure), every thermo column within 1e-10 of its scale (momenta: of the
+  bar's m v);
+* item 4: at np 3 with `rebalance 1.2 every 20` the damage gathering in the middle part (damaged
+  elements modelled at twice the cost) logs a repartition (max/mean above 1.2, predicted below,
+  elements moved) and the run stays the np 1 run (same lines, 1e-10);
+* cracks through tets (`min_size 0.2`) at np 3: the same; its restart file, written at step 500
+  (after the first cuts and splits, before the last), continued at np 2 distributed and at np 1
+  replicated: the log lines after step 500, thermo and energy-file rows as the uninterrupted
+  run's, within 1e-10 of each column's scale; its last fem/vtk frame's pieces carry the
+  replicated frame's split, fragment and mesh_element fields (by global number);
+* three steel spheres hitting the bar across its crack (facet ghosts of the changed parts) at
+  np 2 against np 1: thermo (particle kinetic energy, body energies, contact count, momenta)
+  within 1e-10 of each column's scale.
+"""
+import glob
+import os
+import re
+import shutil
+import sys
+import tempfile
+
+import numpy as np
+
+import harness as h
+
+args = h.parse_args()
+sys.path.insert(0, os.path.join(h.ROOT, "python"))
+from fracdem import fem, meshgen  # noqa: E402
+
+MASS, SPEED = 2400 * 0.16 * 0.04 * 0.04, 5.0
+TOL = 1e-10
+RESTART_AT = 500  # after the first cuts, before the last (the min_size run's)
+
+
+def tet_bar(path):
+    """in.fracture_cut_3d's bar (test_fracture_cut.tet_bar): a 16 x 4 x 4 box of Kuhn tets
+    sheared by x += 0.5 y; groups left / right: faces of the tets wholly left / right of the
+    middle."""
+    X, E, _ = meshgen.box_tet_mesh(16, 4, 4, 0.16, 0.04, 0.04)
+    X = np.array(X, dtype=float)
+    s = X[:, 0].copy()
+    X[:, 0] += 0.5 * X[:, 1]
+    faces = {"left": [], "right": []}
+    for t in E:
+        for name, side in (("left", s[t] < 0.08 - 1e-9), ("right", s[t] > 0.08 + 1e-9)):
+            if side.all():
+                faces[name] += [(t[0], t[1], t[2]), (t[0], t[1], t[3]), (t[0], t[2], t[3]),
+                                (t[1], t[2], t[3])]
+    meshgen.write_gmsh22(path, X, E, {k: np.array(v) for k, v in faces.items()})
+
+
+def result(wd, out, energy="energy.csv"):
+    with open(os.path.join(wd, "log.liggghts")) as f:
+        log = f.read()
+    events = [ln for ln in log.splitlines()
+              if re.search(r"crack at node|crack through element|fragments, masses|eroded", ln)]
+    blocks = h.thermo_blocks(out)
+    rows = [r for _, rs in blocks for r in rs]
+    return dict(wd=wd, out=out, events=events, energy=h.read_csv(os.path.join(wd, energy)),
+                thermo=(blocks[-1][0], rows))
+
+
+def run(np_, parallel, frac, steps, balls=0, restart_at=0, vtk=0):
+    wd = tempfile.mkdtemp(prefix=f"distributed_fracture_{np_}_")
+    tet_bar(os.path.join(wd, "bar3d.msh"))
+    h.copy_inputs(["in.distributed_fracture", "in.distributed_fracture_continue"], wd)
+    out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
+                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "steps": steps,
+                           "speed": SPEED, "balls": balls, "restart_at": restart_at,
+                           "vtk": vtk})
+    return result(wd, out)
+
+
+def resume(wd, np_, parallel, frac, rest):
+    """in.distributed_fracture_continue in a copy of wd (its restart file and mesh)."""
+    wd2 = tempfile.mkdtemp(prefix=f"distributed_fracture_continue_{np_}_")
+    for f in ("bar.restart", "bar3d.msh", "in.distributed_fracture_continue"):
+        shutil.copy(os.path.join(wd, f), wd2)
+    out = h.run(args.exe, "in.distributed_fracture_continue", np_=np_, workdir=wd2,
+                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "rest": rest,
+                           "speed": SPEED})
+    return result(wd2, out, "energy_continued.csv")
+
+
+def worst_energy(a, b):
+    """b may start later (a continued run): rows matched by step."""
+    worst, name = 0.0, ""
+    rows = [a["step"].index(s) for s in b["step"] if s in a["step"]]
+    if len(rows) != len(b["step"]) or not rows:
+        return float("inf"), "step"
+    for col in a:
+        ra, rb = np.array(a[col], float)[rows], np.array(b[col], float)
+        if ra.shape != rb.shape:
+            return float("inf"), col
+        scale = max(np.max(np.abs(ra)), 1e-300)
+        w = float(np.max(np.abs(ra - rb))) / scale
+        if w > worst:
+            worst, name = w, col
+    return worst, name
+
+
+def worst_thermo(a, b):
+    """Rows of b matched to a's by step (b may be a continued run's)."""
+    (ha, ra), (hb, rb) = a, b
+    by_step = {r[0]: r for r in ra}
+    if ha != hb or not rb or any(r[0] not in by_step for r in rb):
+        return float("inf"), "shape"
+    ra, rb = np.array([by_step[r[0]] for r in rb]), np.array(rb)
+    worst, name = 0.0, ""
+    for j, col in enumerate(ha):
+        scale = MASS * SPEED if col in ("body[13]", "body[14]", "body[15]") else \
+            max(np.max(np.abs(ra[:, j])), 1e-300)
+        w = float(np.max(np.abs(ra[:, j] - rb[:, j]))) / scale
+        if w > worst:
+            worst, name = w, col
+    return worst, name
+
+
+def compare(label, ref, other, after=-1):
+    """after: a continued run's first step (its events from there on)."""
+    events = [ln for ln in ref["events"] if int(re.search(r"step (\d+):", ln).group(1)) > after]
+    h.check(len(events) > 0 and other["events"] == events,
+            f"{label}: the same {len(events)} split / cut / fragment log lines")
+    w, col = worst_energy(ref["energy"], other["energy"])
+    h.check(w < TOL, f"{label}: energy file within {w:.1e} of each column's scale "
+                     f"(worst: {col}; tolerance {TOL:g})")
+    w, col = worst_thermo(ref["thermo"], other["thermo"])
+    h.check(w < TOL, f"{label}: thermo within {w:.1e} of each column's scale (worst: {col})")
+
+
+# Boundary cracks: np 2, 3, 4 against np 1.
+ref = run(1, "replicated", "every 5", 600)
+e = ref["energy"]
+h.check(e["fragments"][-1] >= 2 and e["split_nodes"][-1] > 0,
+        f"the bar breaks: {int(e['split_nodes'][-1])} split nodes, "
+        f"{int(e['fragments'][-1])} fragments")
+for np_ in (2, 3, 4):
+    compare(f"every 5, np {np_} distributed", ref, run(np_, "distributed", "every 5", 600))
+
+# Item 4: the damage gathers in the middle part of np 3's slabs; its modelled work (damaged
+# elements cost twice) passes 1.2 times the mean, the body is repartitioned, the run unchanged.
+reb = run(3, "distributed rebalance 1.2 every 20", "every 5", 600)
+lines = re.findall(r"step (\d+): parts max/mean ([0-9.]+) > 1.2, repartitioned \(predicted "
+                   r"([0-9.]+), (\d+) elements moved\)", "\n".join(
+                       open(os.path.join(reb["wd"], "log.liggghts")).read().splitlines()))
+h.check(len(lines) > 0 and all(float(m) > 1.2 and float(p) < 1.2 and int(n) > 0
+                               for _, m, p, n in lines),
+        f"rebalance 1.2 every 20 at np 3: {len(lines)} repartition(s) logged "
+        f"({'; '.join(f'step {s}: {m} -> predicted {p}, {n} moved' for s, m, p, n in lines)})")
+compare("rebalanced np 3", ref, reb)
+
+# Cracks through tets.
+ref_cut = run(1, "replicated", "every 5 min_size 0.2", 1000, vtk=1000)
+h.check(any("crack through element" in ln for ln in ref_cut["events"]),
+        "min_size 0.2: elements are cut")
+cut3 = run(3, "distributed", "every 5 min_size 0.2", 1000, restart_at=RESTART_AT, vtk=1000)
+compare("min_size 0.2, np 3 distributed", ref_cut, cut3)
+
+# The last frame's pieces carry the whole body's crack fields: every global node's 'split' and
+# every global element's 'fragment' and 'mesh_element' as in the replicated frame.
+whole = fem.read_vtu(os.path.join(ref_cut["wd"], "bar_0000001000.vtu"))
+pieces = sorted(glob.glob(os.path.join(cut3["wd"], "bar_0000001000_p*.vtu")))
+same, seen = True, set()
+for piece in pieces:
+    d = fem.read_vtu(piece)
+    gn = d["point_data"]["global_node"].astype(int)
+    ge = d["cell_data"]["global_element"].astype(int)
+    seen.update(ge.tolist())
+    same &= np.array_equal(d["point_data"]["split"], whole["point_data"]["split"][gn])
+    for f in ("fragment", "mesh_element"):
+        same &= np.array_equal(d["cell_data"][f], whole["cell_data"][f][ge])
+h.check(len(pieces) == 3 and same and len(seen) == len(whole["cell_data"]["fragment"]),
+        f"np 3 frame: {len(pieces)} pieces hold every element once with the replicated frame's "
+        f"split, fragment and mesh_element fields")
+
+# The cracked distributed body written at np 3 goes on at np 2 distributed and at np 1
+# replicated (the record is the whole body's) as the uninterrupted run.
+for np_, parallel in ((2, "distributed"), (1, "replicated")):
+    compare(f"restart at step {RESTART_AT} of np 3, continued at np {np_} {parallel}", ref_cut,
+            resume(cut3["wd"], np_, parallel, "every 5 min_size 0.2", 1000 - RESTART_AT),
+            after=RESTART_AT)
+
+# Spheres hitting the breaking body: facet ghosts of the parts after each change.
+ref_b = run(1, "replicated", "every 5", 600, balls=1)
+hdr, rows = ref_b["thermo"]
+dist_b = run(2, "distributed", "every 5", 600, balls=1)
+compare("spheres on the breaking bar, np 2 distributed", ref_b, dist_b)
+ke = [r[hdr.index("KinEng")] for r in rows]
+h.check(min(ke) < 0.5 * ke[0], f"the spheres hit the bar (their kinetic energy "
+                               f"{ke[0]:.3g} -> {min(ke):.3g} J)")
+print("OK")
