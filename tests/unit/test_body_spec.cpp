@@ -290,7 +290,7 @@ TEST(BodySpec, ContactAndRunKeywords)
   EXPECT_TRUE(d.tangential_history);
   EXPECT_EQ(d.contact_bodies, 0);
   EXPECT_EQ(parse("").history_slots, 8);
-  EXPECT_FALSE(parse("").contact_edges);
+  EXPECT_TRUE(parse("").contact_edges); // 3D bodies with contact_bodies yes take it
   EXPECT_TRUE(parse("contact_edges yes").contact_edges);
   EXPECT_FALSE(parse("contact_edges no").contact_edges);
 }

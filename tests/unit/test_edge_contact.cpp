@@ -429,3 +429,57 @@ TEST(EdgeContact, AnIntactBoxFeelsNothing)
   ec.configure(options(0.3));
   EXPECT_EQ(ec.evaluate(s, st, s, st, true, 1e-4), 0);
 }
+
+TEST(EdgeContact, EdgesMeetingAtASplitNodeAndItsCopyNeverTouch)
+{
+  // Two pieces of one body that a crack separated at one point: A's node 0 and B's node 4 are a
+  // split node and its copy (the same reference position). Edges of A and of B ending there
+  // meet at that point, so the closest points of their lines stay at it and the "penetration"
+  // along n = (edge A) x (edge B) is the twins' relative displacement along n: opening or
+  // sliding read as penetration for half the directions (what held test_fracture_cut's torn
+  // bar shut). The pieces open in random directions (B away from A, x < 0, with sliding), the
+  // motion made within the step: no edge contact, no force. The same surface with its sites
+  // ignored (the rule before) takes some of these as contacts.
+  Mesh m;
+  m.dim = 3;
+  add_tet(m, {{{0, 0, 0}, {0, 0, -1}, {0, 1, -1}, {1, 0, -0.5}}});          // A, x >= 0
+  add_tet(m, {{{0, 0, 0}, {-0.3, 1, 0}, {-0.5, 0.5, -1}, {-1, 0.2, 0.3}}}); // B, x <= 0
+  ContactSurface s;
+  s.build(m, boundary_facets(m));
+  ASSERT_EQ(s.site_of(4), s.site_of(0));
+  ASSERT_NE(s.site_of(5), s.site_of(1));
+  ContactSurface unsited = s;
+  unsited.site.clear();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double dt = 1e-6;
+  int before = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const double size = std::pow(10.0, -6 + 3 * 0.5 * (u(rng) + 1));
+    const Vec d{-size * 0.5 * (u(rng) + 1), size * u(rng), size * u(rng)};
+    std::vector<double> x = m.X, v(m.X.size(), 0.0), mass(m.num_nodes(), 1.0);
+    std::vector<double> f(m.X.size(), 0.0);
+    for (int n = 4; n < 8; ++n)
+      for (int k = 0; k < 3; ++k) {
+        x[3 * n + k] += d[k];
+        v[3 * n + k] = d[k] / dt;
+      }
+    const ContactBodyState st{x.data(), v.data(), mass.data(), f.data()};
+    EdgeContact ec, old_rule;
+    ec.configure(options(0.3));
+    old_rule.configure(options(0.3));
+    EXPECT_EQ(ec.evaluate(s, st, s, st, true, dt), 0) << trial;
+    EXPECT_EQ(*std::max_element(f.begin(), f.end()), 0.0);
+    EXPECT_EQ(*std::min_element(f.begin(), f.end()), 0.0);
+    if (old_rule.evaluate(unsited, st, unsited, st, true, dt) > 0) {
+      ++before;
+      // Each is the twins' separation along n, and the pair meets at the twins (an edge end).
+      for (const EdgeTouch& t : old_rule.touches()) {
+        EXPECT_NEAR(t.depth, d[0] * t.normal[0] + d[1] * t.normal[1] + d[2] * t.normal[2],
+                    1e-9 * size);
+        EXPECT_LT(std::min({t.s, 1 - t.s}) + std::min({t.t, 1 - t.t}), 1.0);
+      }
+    }
+  }
+  EXPECT_GE(before, 10) << "of 1000";
+}

@@ -52,12 +52,13 @@ void remember(const ContactSurface& s, const double* x, std::vector<double>& x0)
       x0[3 * i + d] = x[3 * s.nodes[i] + d];
 }
 
-// Whether node p is a corner of one of edge e's two facets.
+// Whether node p's site (p, or its split parent or copies) is a corner of edge e's facets.
 bool on_facets(const ContactSurface& s, const SurfaceEdge& e, int p)
 {
+  const int site = s.site_of(p);
   for (int k : e.facet)
     for (int j = 0; j < 3; ++j)
-      if (s.facets[k].n[j] == p) return true;
+      if (s.site_of(s.facets[k].n[j]) == site) return true;
   return false;
 }
 } // namespace

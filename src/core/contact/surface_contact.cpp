@@ -2,6 +2,7 @@
 #include "contact/surface_contact.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -68,7 +69,23 @@ void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
   for (int k = 0; k < static_cast<int>(facets.size()); ++k)
     for (int j = 0; j < facets[k].nn; ++j)
       incident[fill[facets[k].n[j]]++] = k;
+  build_sites(X, nn);
   build_edges(X);
+}
+
+// Surface nodes grouped by bitwise-equal reference coordinates (copies are exact copies).
+void ContactSurface::build_sites(const double* X, int num_nodes)
+{
+  site.resize(num_nodes);
+  for (int i = 0; i < num_nodes; ++i)
+    site[i] = i;
+  std::vector<int> order = nodes;
+  const auto ref = [X](int i) {
+    return std::array<double, 3>{X[3 * i], X[3 * i + 1], X[3 * i + 2]};
+  };
+  std::stable_sort(order.begin(), order.end(), [&](int p, int q) { return ref(p) < ref(q); });
+  for (size_t i = 1; i < order.size(); ++i)
+    if (ref(order[i]) == ref(order[i - 1])) site[order[i]] = site[order[i - 1]];
 }
 
 // Free nodes: every element around them eroded (erosion_mass keep leaves their mass on them, and

@@ -63,12 +63,22 @@ struct ContactSurface {
   double max_reach = 0;
   std::vector<SurfaceEdge> edges; // 3D only; sorted by (lower node, higher node)
   double max_edge_reach = 0;      // over the feature edges
+  // Per mesh node: the lowest-numbered surface node at the same reference position, the node
+  // itself elsewhere. A split node's copies keep their parent's reference position (so do the
+  // nodes that bisect the two faces' copies of one edge at one ratio): one site per point of a
+  // closed crack, whose faces' edges meet there (edge_contact.h).
+  std::vector<int> site;
   void build(const Mesh& mesh, const std::vector<Facet>& boundary);
   void add_free_nodes(const Mesh& mesh);
   // Whether `facet` shares a node with a facet around `node` (same body only).
   bool neighbourhood(int node, int facet) const;
+  int site_of(int node) const
+  {
+    return static_cast<size_t>(node) < site.size() ? site[node] : node;
+  }
 
 private:
+  void build_sites(const double* X, int num_nodes);
   void build_edges(const double* X);
 };
 
