@@ -83,8 +83,7 @@ struct BodySpec {
   // ---- body-body contact ----
   int contact_bodies = -1; // -1: default (yes with fracture, else no)
   double contact_penalty = 0.1;
-  bool contact_edges =
-      true; // contact_edges yes|no: edge-to-edge contact (3D) beside node-to-facet
+  bool contact_edges = true; // contact_edges yes|no: edge-to-edge contact (3D) beside node-to-facet
   // contact_balance: how the contact work of all contact_bodies bodies is shared among ranks
   // (given on the first of them, which holds the scene).
   ContactBalance contact_balance;
