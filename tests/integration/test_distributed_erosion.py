@@ -17,16 +17,24 @@ the second) at np 3:
   whole body's), continued at np 2 distributed and at np 1 replicated: the later lines, energy
   rows and thermo rows as those of the replicated run written and continued at np 1, within
   1e-10 of each column's scale (that continued run is not the uninterrupted one: below).
+* cost, with the PMPI counter at np 3 (difference of a 200- and a 300-step run, before the first
+  erosion): the body's code takes exactly one integer reduction per host step for the erosion
+  (BodyDriver::distributed_erosion), and no other collective but the stable step's re-estimate
+  every 100 steps, the boxes' all-gather per host re-neighbouring and the energy file's sums.
 `erosion_mass remove` is refused with `parallel distributed` (by name).
 """
 import os
 import re
 import shutil
+import sys
 import tempfile
 
 import numpy as np
 
 import harness as h
+
+sys.path.insert(0, os.path.join(h.ROOT, "tests", "support"))
+import mpicount  # noqa: E402
 
 args = h.parse_args()
 TOL = 1e-10
@@ -156,6 +164,48 @@ first = run(3, "distributed", steps=RESTART_AT, write=True)
 for np_, parallel in ((2, "distributed"), (1, "replicated")):
     compare(f"restart at step {RESTART_AT} of np 3, continued at np {np_} {parallel} (against "
             f"np 1's restart)", ref_rest, run(np_, parallel, steps=rest, resume=first["wd"]))
+
+# Cost while nothing erodes: one integer reduction per host step (counted at np 3).
+LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")
+h.check(os.path.isfile(LIB), f"PMPI counter {LIB} built")
+wd = tempfile.mkdtemp(prefix="distributed_erosion_counts_")
+h.copy_inputs(["in.fast_impact"], wd)
+h.make_box_mesh(os.path.join(wd, "block.msh"), (10, 10, 5), (0.1, 0.1, 0.05))
+
+
+def counted(steps):
+    variables = dict(v=1500.0, dt=1e-8, x0=0.05, y0=0.05, steps=steps, every=steps,
+                     bodykw=f"{BODY} parallel distributed")
+    return mpicount.run(args.exe, "in.fast_impact", 3, wd, LIB, f"c{steps}", variables)
+
+
+def builds(text):
+    return int(re.search(r"Neighbor list builds\s*=\s*(\d+)", text).group(1))
+
+
+short_text, short = counted(200)
+long_text, long_ = counted(300)
+regroupings = builds(long_text) - builds(short_text)
+for d in mpicount.difference(long_, short):
+    erosion, restep, gathers, other = 0, 0, 0, []
+    for (module, caller, func, cat), (count, nbytes) in d["sites"].items():
+        if cat != "coll" or not count or not re.search(r"FixFemBody|BodyDriver|all_gather",
+                                                        caller):
+            continue
+        if "energy_row" in caller:
+            continue  # output (energy_file every 10 steps): sums over the parts
+        if "distributed_erosion" in caller and func == "MPI_Allreduce":
+            erosion += count
+        elif "check_squeezed" in caller and func == "MPI_Allreduce":
+            restep += count
+        elif "all_gather" in caller:
+            gathers += count
+        else:
+            other.append(f"{count} x {func} in {caller}")
+    h.check(erosion == 100 and restep == 1 and gathers == regroupings and not other,
+            f"rank {d['rank']}: in 100 steps without erosion {erosion} erosion reductions (one per "
+            f"host step), {restep} stable-step re-estimates, {gathers} box all-gathers "
+            f"({regroupings} host re-neighbourings), other collectives: {'; '.join(other) or 'none'}")
 
 out = run(2, "distributed", steps=1, body=BODY + " erosion_mass remove", expect_fail=True)
 h.check("keyword 'parallel distributed' does not work with 'erosion_mass remove'" in out,
