@@ -670,7 +670,7 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
   const double h = dt / step_substeps_; // the FE step whose forces these are
   int first_inverted = -1;
   double energy = body_.add_internal_forces(&first_inverted);
-  if (can_erode()) energy = erode_part(step, energy, first_inverted, last);
+  if (can_erode()) energy = erode_part(energy, first_inverted, last);
   shared_sum_(body_.forces_data(), 3);
   if (can_erode() && last) distributed_erosion(step, dt);
   if (particles) distributed_contact(*particles, step, dt);

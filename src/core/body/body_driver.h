@@ -230,7 +230,7 @@ private:
   // A distributed body that erodes (body_erosion.cpp): each part erodes its own elements in its
   // force evaluation; at the host step's last evaluation the parts agree (one integer reduction)
   // and, after an erosion, rank 0 logs it, the stable step follows and the surface is renewed.
-  double erode_part(std::int64_t step, double energy, int& first_inverted, bool last);
+  double erode_part(double energy, int& first_inverted, bool last);
   void distributed_erosion(std::int64_t step, double dt);
   std::vector<double> pack_part_erosion() const;
   void renew_surface_after_erosion(const std::vector<int>& eroded);
@@ -249,7 +249,7 @@ private:
   bool broken() const { return global_elems_ != mesh_elems_ || broken_; }
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
-  void print_part_erosion(std::int64_t step, const std::vector<double>& all,
+  void merge_part_erosion(std::int64_t step, const std::vector<double>& all,
                           const std::vector<int>& at, std::vector<std::vector<std::string>>& lines,
                           std::vector<int>& eroded) const;
   // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state.

@@ -43,7 +43,7 @@ ErosionAccount get_account(const std::vector<double>& in, std::size_t& at)
 // the whole body would. The erosion waits, in global numbers, for the follow-up at the host
 // step's last evaluation (last); before it, with sub-cycling, the part's stable step after each
 // evaluation is kept (the replicated body takes it right after its erosion).
-double BodyDriver::erode_part(std::int64_t, double energy, int& first_inverted, bool last)
+double BodyDriver::erode_part(double energy, int& first_inverted, bool last)
 {
   PartErosion ev;
   ev.fe = fe_count_;
@@ -102,7 +102,7 @@ void BodyDriver::distributed_erosion(std::int64_t step, double dt)
     const std::vector<double> all = host_.gather(pack_part_erosion());
     std::vector<std::vector<std::string>> lines(at.size());
     std::vector<int> eroded;
-    if (host_.rank == 0) print_part_erosion(step, all, at, lines, eroded);
+    if (host_.rank == 0) merge_part_erosion(step, all, at, lines, eroded);
     renew_surface_after_erosion(eroded);
     broken_ = true; // its restart record is the whole body's (element activity)
     for (size_t i = 0; i < at.size(); ++i) {
@@ -138,7 +138,7 @@ std::vector<double> BodyDriver::pack_part_erosion() const
 // erosions (all: pack_part_erosion of every rank, in rank order): the parts' criteria elements
 // merged in ascending order, then their inverted ones, the counts and what they took summed, the
 // totals from the parts' accounts before; eroded: every element that left.
-void BodyDriver::print_part_erosion(std::int64_t step, const std::vector<double>& all,
+void BodyDriver::merge_part_erosion(std::int64_t step, const std::vector<double>& all,
                                     const std::vector<int>& at,
                                     std::vector<std::vector<std::string>>& lines,
                                     std::vector<int>& eroded) const
