@@ -723,9 +723,13 @@ TEST(BodySpec, ParallelDistributed)
             "'0'");
   EXPECT_EQ(check_error(body + "parallel distributed contact_bodies yes"),
             "keyword 'parallel distributed' does not work with 'contact_bodies yes'" + tail);
+  // A distributed body erodes, its nodes keeping the mass.
   EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
                                "erosion plastic_strain 2"),
-            "keyword 'parallel distributed' does not work with 'erosion'" + tail);
+            "");
+  EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
+                               "erosion plastic_strain 2 erosion_mass remove"),
+            "keyword 'parallel distributed' does not work with 'erosion_mass remove'" + tail);
 }
 
 // Without 'parallel' the body's size chooses (kDistributedMinElements), unless it uses what
@@ -748,6 +752,13 @@ TEST(BodySpec, ParallelChosenBySize)
   s = parse(body + "material rankine strength 3e6 fracture_energy 100 fracture nodal");
   check_body_spec(s, BodySpecHost{}, 4, 3);
   EXPECT_NE(parallel_choice(s, 1000000, distributed).find("uses 'fracture'"), std::string::npos);
+  EXPECT_FALSE(distributed);
+  s = parse(body + "material j2 yield 4e8 hardening 1e8 erosion plastic_strain 2");
+  check_body_spec(s, BodySpecHost{}, 4, 3);
+  EXPECT_NE(parallel_choice(s, 1000000, distributed)
+                .find("uses 'erosion', which a distributed body does only when asked: 'parallel "
+                      "distributed')"),
+            std::string::npos);
   EXPECT_FALSE(distributed);
   s = parse(body + "parallel replicated");
   EXPECT_EQ(parallel_choice(s, 1000000, distributed), "");

@@ -154,6 +154,7 @@ void BodyDriver::adopt_part(const std::vector<double>& message)
   }
   ghosts_.init(part_, std::move(surface));
   boxes_due_ = true;
+  whole_mesh_known_ = false; // the parts changed: rank 0 gathers them again at the next erosion
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0;
   for (const PartNeighbour& nb : part_.neighbours)

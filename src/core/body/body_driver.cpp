@@ -570,7 +570,7 @@ void BodyDriver::substep_forces(double dt, double h)
   const std::int64_t step = step_ + 1;
   body_.clear_internal_forces();
   body_.hold_contact_forces();
-  if (distributed_) return distributed_forces(nullptr, step, dt, true); // no particle loop
+  if (distributed_) return distributed_forces(nullptr, step, dt, true, false); // no particles
   int first_inverted = -1;
   double scalars[2] = {internal_forces(step, dt, first_inverted), 0.0};
   scalars[1] = first_inverted >= 0 ? first_inverted + 1.0 : 0.0;
@@ -621,7 +621,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   step_ = step;
   const double h = dt / step_substeps_; // the FE step whose forces these are
   body_.begin_forces();
-  if (distributed_) return distributed_forces(particles, step, dt, count_work);
+  if (distributed_) return distributed_forces(particles, step, dt, count_work, true);
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
   // particles; one reduction makes every replica identical.
@@ -659,15 +659,20 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 
 // parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
 // parts (one message each, no collective), and the contact of particles (facet ghosts by boxes,
-// body_ghost_contact.cpp, once per host step); a rank that finds an inverted element or a NaN
-// stops the run by itself (no per-step reduction to find out). dt: the host step.
+// body_ghost_contact.cpp, once per host step). A body that erodes erodes its part's elements here
+// and, at the host step's last evaluation (last), before the contact, takes the follow-up of
+// every part's erosions (body_erosion.cpp: one integer reduction). Otherwise a rank that finds an
+// inverted element or a NaN stops the run by itself (no per-step reduction to find out). dt: the
+// host step.
 void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
-                                    bool count_work)
+                                    bool count_work, bool last)
 {
   const double h = dt / step_substeps_; // the FE step whose forces these are
   int first_inverted = -1;
-  const double energy = body_.add_internal_forces(&first_inverted);
+  double energy = body_.add_internal_forces(&first_inverted);
+  if (can_erode()) energy = erode_part(energy, first_inverted, last);
   shared_sum_(body_.forces_data(), 3);
+  if (can_erode() && last) distributed_erosion(step, dt);
   if (particles) distributed_contact(*particles, step, dt);
   if (first_inverted >= 0)
     fail_one(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
@@ -766,11 +771,22 @@ double BodyDriver::internal_forces(std::int64_t step, double dt, int& first_inve
 double BodyDriver::forces_after_erosion(std::int64_t step, double dt, double energy,
                                         int& first_inverted)
 {
+  int counts[kErosionCauses] = {0, 0, 0, 0};
+  std::vector<int> batch; // every element this step, for the log
+  energy = erosion_loop(energy, first_inverted, counts, batch);
+  if (!batch.empty()) after_erosion(step, dt, counts, batch);
+  return energy;
+}
+
+// The loop of forces_after_erosion (a replicated body, or one part of a distributed one: every
+// criterion and det F are element-local): counts per cause; batch: the criteria's elements
+// (ascending), then the inverted ones (ascending: the first inverted one leaves at each pass).
+double BodyDriver::erosion_loop(double energy, int& first_inverted, int* counts,
+                                std::vector<int>& batch)
+{
   std::vector<int> elems;
   std::vector<ErosionCause> causes;
   select_eroding(body_, spec_->erosion, elems, causes);
-  int counts[kErosionCauses] = {0, 0, 0, 0};
-  std::vector<int> batch; // every element this step, for the log
   for (;;) {
     if (first_inverted >= 0 &&
         std::find(elems.begin(), elems.end(), first_inverted) == elems.end()) {
@@ -788,7 +804,6 @@ double BodyDriver::forces_after_erosion(std::int64_t step, double dt, double ene
     first_inverted = -1;
     energy = body_.add_internal_forces(&first_inverted);
   }
-  if (!batch.empty()) after_erosion(step, dt, counts, batch);
   return energy;
 }
 
@@ -803,6 +818,12 @@ void BodyDriver::after_erosion(std::int64_t step, double dt, const int* counts,
   rebuild_surfaces();
   print(erosion_line(step, counts, batch));
   dt_stable_ = body_.stable_time_step();
+  follow_step_after_erosion(step, dt);
+}
+
+// The stable step after an erosion (dt_stable_) sets the FE steps of the next host step.
+void BodyDriver::follow_step_after_erosion(std::int64_t step, double dt)
+{
   follow_stable_step(step, dt, dt_stable_);
   const double h = dt / substeps_;
   if (dt_stable_ >= h || warned_dt_after_erosion_) return;
@@ -817,6 +838,12 @@ void BodyDriver::after_erosion(std::int64_t step, double dt, const int* counts,
 std::string BodyDriver::erosion_line(std::int64_t step, const int* counts,
                                      const std::vector<int>& batch) const
 {
+  return erosion_line(step, counts, batch, body_.eroded());
+}
+
+std::string BodyDriver::erosion_line(std::int64_t step, const int* counts,
+                                     const std::vector<int>& batch, const ErosionAccount& acc) const
+{
   constexpr std::size_t kMaxListed = 12;
   std::string why, which;
   for (int c = 0; c < kErosionCauses; ++c)
@@ -827,7 +854,6 @@ std::string BodyDriver::erosion_line(std::int64_t step, const int* counts,
   for (std::size_t k = 0; k < batch.size() && k < kMaxListed; ++k)
     which += " " + std::to_string(batch[k]);
   if (batch.size() > kMaxListed) which += " ...";
-  const ErosionAccount& acc = body_.eroded();
   return prefix() + "step " + std::to_string(step) + ": eroded " + std::to_string(batch.size()) +
          " elements (" + why + "):" + which +
          format("; %d eroded in all, mass %.6g removed, energy %.6g\n", acc.elements, acc.mass,
@@ -838,9 +864,14 @@ void BodyDriver::erode_inverted(std::int64_t step, int e)
 {
   body_.erode({e}, spec_->erosion.remove_mass);
   rebuild_surfaces();
-  print(format("fix fem/body %s: step %" PRId64
-               ": element %d inverted (det F <= 0) and was eroded; its nodes keep their mass\n",
-               id_.c_str(), step, e));
+  print(inverted_line(step, e));
+}
+
+std::string BodyDriver::inverted_line(std::int64_t step, int e) const
+{
+  return format("fix fem/body %s: step %" PRId64
+                ": element %d inverted (det F <= 0) and was eroded; its nodes keep their mass\n",
+                id_.c_str(), step, e);
 }
 
 /* ----------------------------------------------------------------------

@@ -178,6 +178,9 @@ public:
   void fracture(std::int64_t step, double dt);
   std::string erosion_line(std::int64_t step, const int* counts,
                            const std::vector<int>& batch) const;
+  // The same line with the given totals (a distributed body's, summed over its parts).
+  std::string erosion_line(std::int64_t step, const int* counts, const std::vector<int>& batch,
+                           const ErosionAccount& acc) const;
 
 private:
   [[noreturn]] void fail(const std::string& text) const;
@@ -194,9 +197,12 @@ private:
   void check_state(std::int64_t step, double energy, double inverted) const;
   double internal_forces(std::int64_t step, double dt, int& first_inverted);
   double forces_after_erosion(std::int64_t step, double dt, double energy, int& first_inverted);
+  double erosion_loop(double energy, int& first_inverted, int* counts, std::vector<int>& batch);
   void after_erosion(std::int64_t step, double dt, const int* counts,
                      const std::vector<int>& batch);
+  void follow_step_after_erosion(std::int64_t step, double dt);
   void erode_inverted(std::int64_t step, int e);
+  std::string inverted_line(std::int64_t step, int e) const;
   int erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed);
   bool crack_body(std::int64_t step, double dt, std::vector<SplitEvent>& events,
                   std::vector<CutEvent>& cuts);
@@ -220,7 +226,14 @@ private:
   void write_energy_row(std::int64_t step);
   void write_distributed_energy_row(std::int64_t step);
   void distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
-                          bool count_work);
+                          bool count_work, bool last);
+  // A distributed body that erodes (body_erosion.cpp): each part erodes its own elements in its
+  // force evaluation; at the host step's last evaluation the parts agree (one integer reduction)
+  // and, after an erosion, rank 0 logs it, the stable step follows and the surface is renewed.
+  double erode_part(double energy, int& first_inverted, bool last);
+  void distributed_erosion(std::int64_t step, double dt);
+  std::vector<double> pack_part_erosion() const;
+  void renew_surface_after_erosion(const std::vector<int>& eroded);
   void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
   double distributed_vector_entry(int i);
   void build_distributed(Mesh& whole);
@@ -236,6 +249,9 @@ private:
   bool broken() const { return global_elems_ != mesh_elems_ || broken_; }
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
+  void merge_part_erosion(std::int64_t step, const std::vector<double>& all,
+                          const std::vector<int>& at, std::vector<std::vector<std::string>>& lines,
+                          std::vector<int>& eroded) const;
   // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state.
   void read_head(const double* head, int n, const double* (&state)[2], size_t (&size)[2]);
   std::vector<double> record_head() const;
@@ -260,6 +276,23 @@ private:
   bool broken_ = false;
   int whole_split_nodes_ = 0, whole_fragments_ = 1;
   long long interface_pairs_ = 0;
+  // A distributed body that erodes: this part's erosions (global element numbers) in the force
+  // evaluations since the last follow-up (fe: their index there), its own stable steps after each
+  // evaluation but the last (sub-cycling), its account before the first of them; on rank 0 the
+  // whole mesh with its element owners (surfaces after erosion), kept until the parts change.
+  struct PartErosion {
+    int fe = 0;
+    int counts[kErosionCauses] = {0, 0, 0, 0};
+    std::vector<int> batch; // the criteria's elements, then the inverted ones (counts[Inverted])
+    ErosionAccount took;    // what they took out (elements, mass, energy)
+  };
+  std::vector<PartErosion> part_erosion_;
+  std::vector<double> fe_dt_stable_;
+  int fe_count_ = 0;
+  ErosionAccount erosion_mark_;
+  bool whole_mesh_known_ = false;
+  Mesh whole_mesh_;
+  std::vector<int> whole_owner_;
   // Particle contact of a distributed body (body_ghost_contact.cpp): facet ghosts by boxes.
   FacetGhosts ghosts_;
   bool boxes_due_ = true;

@@ -626,15 +626,18 @@ void check_erosion(const BodySpec& s)
 
 const char* distributed_refusal(const BodySpec& s)
 {
-  return s.rigid                ? "'rigid yes'"
-         : s.erosion.on()       ? "'erosion'"
-         : s.contact_bodies > 0 ? "'contact_bodies yes'"
-                                : nullptr;
+  // erosion_mass remove would take the mass off a shared node on one of its sharers only.
+  return s.rigid                                   ? "'rigid yes'"
+         : s.erosion.on() && s.erosion.remove_mass ? "'erosion_mass remove'"
+         : s.contact_bodies > 0                    ? "'contact_bodies yes'"
+                                                   : nullptr;
 }
 
 const char* distributed_default_refusal(const BodySpec& s)
 {
-  return s.fracture_every > 0 ? "'fracture'" : distributed_refusal(s);
+  if (s.fracture_every > 0) return "'fracture'";
+  if (const char* what = distributed_refusal(s)) return what;
+  return s.erosion.on() ? "'erosion'" : nullptr;
 }
 
 namespace

@@ -171,10 +171,11 @@ BodySpec parse_body_spec(const std::vector<std::string>& words, const BodySpecHo
 // Checks the whole spec against the run (atom types 1..ntypes, dimension 2|3) and resolves the
 // defaults (compliance, bulk viscosity, contact_bodies, a rigid body's density). Throws SpecError.
 void check_body_spec(BodySpec& spec, const BodySpecHost& host, int ntypes, int dimension);
-// What of the (checked) spec a distributed body does not do yet ("'erosion'", ...), or null.
+// What of the (checked) spec a distributed body does not do yet ("'rigid yes'", ...), or null.
 const char* distributed_refusal(const BodySpec& spec);
 // What keeps the body replicated when the spec leaves the choice to its size: the refusals and
-// 'fracture' (a distributed body breaks only when asked: docs/distributed_bodies.md).
+// 'fracture' and 'erosion' (a distributed body breaks and erodes only when asked:
+// docs/distributed_bodies.md).
 const char* distributed_default_refusal(const BodySpec& spec);
 
 } // namespace fracdem
