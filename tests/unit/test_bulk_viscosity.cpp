@@ -249,3 +249,59 @@ TEST(BulkViscosity, BodyAccountsTheViscousWorkAndRestartsIt)
   off.pack_state(buf);
   EXPECT_EQ(buf[0], 2.0); // bodies without viscosity keep writing the version-2 record
 }
+
+// A continued run (second 'run', read_restart) starts with the host's set-up evaluation at the
+// full-step velocities; the viscous force of the step is that of its mid-step velocities. The
+// set-up evaluation repeats it (Body::replay_viscous_forces_once), from the body itself and from
+// its restart record, so the continued run's first step is the uninterrupted one's.
+TEST(BulkViscosity, SetUpOfAContinuedRunRepeatsTheLastViscousForces)
+{
+  auto make = [] {
+    Body b;
+    b.build(make_box_tet_mesh(3, 3, 3, 0.03, 0.03, 0.03), steel(), false);
+    b.set_bulk_viscosity(defaults());
+    return b;
+  };
+  Body b = make();
+  for (int n = 0; n < b.num_nodes(); ++n) {
+    const double* X = &b.mesh().X[3 * n];
+    const double v[3] = {-20 * (X[0] - 0.015) / 0.015, -20 * (X[1] - 0.015) / 0.015, 0.0};
+    b.set_velocity({n}, v);
+  }
+  const double g[3] = {0, 0, 0}, dt = 2e-8;
+  auto forces = [&](Body& body, bool count, bool setup) {
+    body.begin_forces();
+    if (setup) body.replay_viscous_forces_once();
+    int inv = -1;
+    body.finish_forces(body.add_internal_forces(&inv), g, dt, count);
+    return std::vector<double>(body.forces_data(), body.forces_data() + 3 * body.num_nodes());
+  };
+  forces(b, false, true); // a fresh body's set-up takes its velocities (nothing to repeat)
+  std::vector<double> last;
+  for (int step = 0; step < 50; ++step) {
+    b.advance_time(dt);
+    b.half_kick_drift(dt);
+    last = forces(b, true, false);
+    b.half_kick(dt);
+  }
+  std::vector<double> buf;
+  b.pack_state(buf);
+  Body restored = make();
+  restored.unpack_state(buf.data());
+  double scale = 0, worst_same = 0, worst_restored = 0, worst_plain = 0;
+  for (double f : last)
+    scale = std::max(scale, std::abs(f));
+  const std::vector<double> same = forces(b, false, true);
+  const std::vector<double> again = forces(restored, false, true);
+  Body plain = make(); // the set-up without the repeat: full-step velocities
+  plain.unpack_state(buf.data());
+  const std::vector<double> full = forces(plain, false, false);
+  for (size_t k = 0; k < last.size(); ++k) {
+    worst_same = std::max(worst_same, std::abs(same[k] - last[k]));
+    worst_restored = std::max(worst_restored, std::abs(again[k] - last[k]));
+    worst_plain = std::max(worst_plain, std::abs(full[k] - last[k]));
+  }
+  EXPECT_LT(worst_same, 1e-13 * scale);
+  EXPECT_LT(worst_restored, 1e-13 * scale);
+  EXPECT_GT(worst_plain, 1e-6 * scale); // what the set-up did before: the full-step velocities
+}

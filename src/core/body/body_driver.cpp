@@ -621,6 +621,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   step_ = step;
   const double h = dt / step_substeps_; // the FE step whose forces these are
   body_.begin_forces();
+  if (!count_work) body_.replay_viscous_forces_once(); // set-up: see Body
   if (distributed_) return distributed_forces(particles, step, dt, count_work, true);
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's

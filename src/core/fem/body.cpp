@@ -275,10 +275,16 @@ double Body::add_internal_forces(int* first_inverted)
   const double energy = space_.add_internal_forces(
       mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr, first_inverted, state_.data(),
       &damaged_points_, last_dt_, &damaged_elems_, &failed_elems_);
-  if (viscosity_.on)
+  if (viscosity_.on && replay_viscous_) {
+    std::copy(viscous_force_prev_.begin(), viscous_force_prev_.end(), viscous_force_.begin());
+    space_.add_given_viscous_forces(mesh_, x_.data(), elem_begin_, elem_end_, viscous_force_.data(),
+                                    f_.data());
+  } else if (viscosity_.on) {
     space_.add_viscous_forces(mesh_, x_.data(), v_.data(), elem_begin_, elem_end_, viscosity_,
                               state_.data(), f_.data(), viscous_force_.data(),
                               viscous_rate_.data());
+  }
+  replay_viscous_ = false;
   return energy;
 }
 
@@ -292,6 +298,7 @@ void Body::add_viscous_work(double dt, bool count_work)
           0.5 * (viscous_force_prev_[e] + viscous_force_[e]) * viscous_rate_[e] * dt;
     viscous_force_prev_[e] = viscous_force_[e];
   }
+  viscous_evaluated_ = viscous_evaluated_ || count_work;
 }
 
 double Body::viscous_work() const
@@ -724,6 +731,7 @@ const double* Body::unpack_viscosity(int version, const double* p)
   std::copy(p, p + ne, viscous_work_.begin());
   std::copy(p + ne, p + 2 * ne, viscous_force_prev_.begin());
   std::copy(p + 2 * ne, p + 3 * ne, viscous_rate_.begin());
+  viscous_evaluated_ = true;
   return p + 3 * ne;
 }
 
@@ -874,6 +882,7 @@ void Body::unpack_element(int e, const double* in)
   viscous_work_[e] = in[n];
   viscous_force_prev_[e] = in[n + 1];
   viscous_rate_[e] = in[n + 2];
+  viscous_evaluated_ = true;
 }
 
 void Body::pack_node(int n, double* out) const

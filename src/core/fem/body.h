@@ -48,6 +48,12 @@ public:
   // Artificial bulk viscosity (materials/bulk_viscosity.h); off after build. Turning it on keeps
   // each element's viscous work and last viscous force (restart record version 3).
   void set_bulk_viscosity(const BulkViscosity& bv);
+  // The set-up evaluation of a run (the host's, at unchanged positions) repeats the viscous
+  // forces of the last counted evaluation (or of the restart record) instead of taking them from
+  // the full-step velocities: the viscous force of a step is that of its mid-step velocities, so
+  // a run continued (second 'run', or read_restart) goes on as the uninterrupted one. A body
+  // never evaluated takes its velocities.
+  void replay_viscous_forces_once() { replay_viscous_ = viscous_evaluated_; }
   const BulkViscosity& bulk_viscosity() const { return viscosity_; }
 
   // Holds the components in `mask` (bit d: component d; 7 = all) of `nodes`. group: index of
@@ -345,6 +351,9 @@ private:
   // Per element: viscous work so far, q W of the last counted evaluation (restart state); q W and
   // volumetric strain rate of the latest evaluation (recomputed every step).
   std::vector<double> viscous_work_, viscous_force_prev_, viscous_force_, viscous_rate_;
+  // viscous_force_prev_ holds a counted evaluation's (or a restored one's); replay_viscous_: the
+  // next evaluation takes those instead of the current velocities (replay_viscous_forces_once).
+  bool viscous_evaluated_ = false, replay_viscous_ = false;
   NodeStars stars_; // active elements around each node
   int damaged_points_ = 0;
   std::vector<int> damaged_elems_; // elements with a damaged point at the last force evaluation

@@ -1305,6 +1305,29 @@ void FeSpace::add_viscous_forces(const Mesh& mesh, const double* x, const double
   }
 }
 
+void FeSpace::add_given_viscous_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
+                                       const double* force_scale, double* f) const
+{
+  e_begin = std::max(e_begin, 0);
+  e_end = std::min(e_end, mesh.num_elems());
+  for (int e = e_begin; e < e_end; ++e) {
+    if (!mesh.active[e] || force_scale[e] == 0) continue;
+    const ElemType t = mesh.etype[e];
+    const int n = nodes_per_elem(t);
+    const int* conn = mesh.conn[e].data();
+    double p[12], g[kQuadBlock], meas, value;
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        p[3 * a + i] = x[3 * conn[a] + i];
+    if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) != Geo::Ok) continue;
+    double bw[12];
+    const double q = force_scale[e] / weighted_gradients(t, g, bw);
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        f[3 * conn[a] + i] += q * bw[3 * a + i];
+  }
+}
+
 /* ---------------------------------------------------------------------- */
 
 // Provable upper bound of lambda_max(M_e^-1 K_e) for element e (lumped, diagonal M_e).

@@ -97,6 +97,11 @@ public:
                           int e_end, const BulkViscosity& bv, const double* state, double* f,
                           double* force_scale, double* rate) const;
 
+  // The viscous forces of given pressures: for each active element q = force_scale[e] / W at
+  // the current configuration x (force_scale of an earlier evaluation at the same x), into f.
+  void add_given_viscous_forces(const Mesh& mesh, const double* x, int e_begin, int e_end,
+                                const double* force_scale, double* f) const;
+
   // Critical central-difference time step 2 / omega_max, with omega_max bounded from above
   // element by element by a provable bound of lambda_max(M_e^-1 K_e) (see fe_space.cpp), taken
   // over both the reference and the current configuration x. Returns 1e300 for no active elements.
