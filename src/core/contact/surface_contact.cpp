@@ -168,12 +168,58 @@ bool ContactSurface::neighbourhood(int node, int facet) const
   return false;
 }
 
+int ContactSurface::twin_corner(int node, int facet) const
+{
+  const Facet& fc = facets[facet];
+  const int at = site_of(node);
+  for (int j = 0; j < fc.nn; ++j)
+    if (fc.n[j] != node && site_of(fc.n[j]) == at) return j;
+  return -1;
+}
+
+bool ContactSurface::vertex_normal(const double* x, int node, double* n) const
+{
+  n[0] = n[1] = n[2] = 0;
+  for (int k = incident_offset[node]; k < incident_offset[node + 1]; ++k) {
+    double m[3];
+    const Facet& fc = facets[incident[k]];
+    facet_normal(x, fc.n.data(), fc.nn, m);
+    const double l = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    for (int d = 0; d < 3; ++d)
+      n[d] += l > 0 ? m[d] / l : 0.0;
+  }
+  const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  // Facets around the node that nearly cancel (a sliver fold): no direction to push along.
+  const int count = incident_offset[node + 1] - incident_offset[node];
+  if (!(l > 0.1 * count)) return false;
+  for (int d = 0; d < 3; ++d)
+    n[d] /= l;
+  return true;
+}
+
 /* ---------------------------------------------------------------------- */
+
+// The crack's normal at a split node and its copy, out of the copy's piece: the difference of
+// the two vertex normals (faces the twins share, e.g. the body's outer faces at a crack's
+// mouth, cancel; the crack's faces add).
+bool SurfaceContact::twin_normal(const ContactSurface& s, int node, int copy, const double* x,
+                                 double* n) const
+{
+  double nc[3], nn[3];
+  if (!s.vertex_normal(x, copy, nc) || !s.vertex_normal(x, node, nn)) return false;
+  for (int d = 0; d < 3; ++d)
+    n[d] = nc[d] - nn[d];
+  const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(l > 0.1)) return false;
+  for (int d = 0; d < 3; ++d)
+    n[d] /= l;
+  return true;
+}
 
 // Outward unit normal of the facet (positions x), the signed distance of q from its plane, and
 // the barycentric weights of q's projection.
 bool SurfaceContact::touch(const double* q, const Facet& fc, double reach, const double* x,
-                           Touch& t) const
+                           Touch& t, int corner, const double* vn) const
 {
   const double* a = &x[3 * fc.n[0]];
   const double* b = &x[3 * fc.n[1]];
@@ -210,6 +256,15 @@ bool SurfaceContact::touch(const double* q, const Facet& fc, double reach, const
   }
   for (int j = 0; j < fc.nn; ++j)
     if (t.w[j] < -kBaryTol) return false;
+  if (corner >= 0) {
+    // The node's split copy is this corner: the penetration is the twins' closing along the
+    // crack's normal vn there (twin_normal), the reaction all on the copy (see the class notes).
+    const double* c = &x[3 * fc.n[corner]];
+    for (int j = 0; j < 3; ++j)
+      t.w[j] = j == corner ? 1.0 : 0.0;
+    a = c;
+    std::copy(vn, vn + 3, n);
+  }
   const double dist = (q[0] - a[0]) * n[0] + (q[1] - a[1]) * n[1] + (q[2] - a[2]) * n[2];
   if (!(dist < 0) || -dist > reach) return false;
   t.depth = -dist;
@@ -353,8 +408,15 @@ SurfaceContact::resolve(const ContactSurface& nodes_of, const ContactBodyState& 
     for (; c < ncand && cand[c].first == s; ++c) {
       const int k = cand[c].second;
       if (self && facets_of.neighbourhood(node, k)) continue;
+      // 3D only: in 2D (node to edge) the rule before made no energy (test_fracture_cut's
+      // notched tri3 bars: contact work <= 0), and the crack paths it gives are recorded.
+      const bool twin = self && facets_of.facets[k].nn == 3;
+      const int corner = twin ? facets_of.twin_corner(node, k) : -1;
+      double vn[3];
+      if (corner >= 0 && !twin_normal(facets_of, node, facets_of.facets[k].n[corner], b.x, vn))
+        continue;
       Touch t;
-      if (touch(&a.x[3 * node], facets_of.facets[k], facets_of.reach[k], b.x, t) &&
+      if (touch(&a.x[3 * node], facets_of.facets[k], facets_of.reach[k], b.x, t, corner, vn) &&
           t.depth > best.depth) {
         best = t;
         best.facet = k;
