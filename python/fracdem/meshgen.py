@@ -55,6 +55,23 @@ def capped_graded_axis(fine, h, half_length, growth, cap):
     return np.concatenate([-half[:0:-1], half])
 
 
+def sheared_tet_bar(nx=16, ny=4, nz=4, lx=0.16, ly=0.04, lz=0.04, shear=0.5):
+    """A box of Kuhn tets (box_tet_mesh) sheared by x += shear * y, so that no face is normal to
+    x (the torn bar of the fracture tests). Face groups left / right: the faces of the tets wholly
+    left / right of the middle (x = lx / 2 + shear * y). Returns (nodes, tets, groups)."""
+    X, E, _ = box_tet_mesh(nx, ny, nz, lx, ly, lz)
+    X = np.array(X, dtype=float)
+    s = X[:, 0].copy()  # the side, in the unsheared frame
+    X[:, 0] += shear * X[:, 1]
+    faces = {"left": [], "right": []}
+    for t in E:
+        for name, side in (("left", s[t] < lx / 2 - 1e-9), ("right", s[t] > lx / 2 + 1e-9)):
+            if side.all():
+                faces[name] += [(t[0], t[1], t[2]), (t[0], t[1], t[3]), (t[0], t[2], t[3]),
+                                (t[1], t[2], t[3])]
+    return X, E, {k: np.array(v) for k, v in faces.items()}
+
+
 def box_tet_mesh_axes(xs, ys, zs):
     """Tet4 box on arbitrary (graded) axis coordinates; same splitting and face sets as box_tet_mesh."""
     nx, ny, nz = len(xs) - 1, len(ys) - 1, len(zs) - 1

@@ -43,20 +43,8 @@ RESTART_AT = 500  # after the first cuts, before the last (the min_size run's)
 
 
 def tet_bar(path):
-    """in.fracture_cut_3d's bar (test_fracture_cut.tet_bar): a 16 x 4 x 4 box of Kuhn tets
-    sheared by x += 0.5 y; groups left / right: faces of the tets wholly left / right of the
-    middle."""
-    X, E, _ = meshgen.box_tet_mesh(16, 4, 4, 0.16, 0.04, 0.04)
-    X = np.array(X, dtype=float)
-    s = X[:, 0].copy()
-    X[:, 0] += 0.5 * X[:, 1]
-    faces = {"left": [], "right": []}
-    for t in E:
-        for name, side in (("left", s[t] < 0.08 - 1e-9), ("right", s[t] > 0.08 + 1e-9)):
-            if side.all():
-                faces[name] += [(t[0], t[1], t[2]), (t[0], t[1], t[3]), (t[0], t[2], t[3]),
-                                (t[1], t[2], t[3])]
-    meshgen.write_gmsh22(path, X, E, {k: np.array(v) for k, v in faces.items()})
+    """in.fracture_cut_3d's bar (test_fracture_cut.tet_bar, meshgen.sheared_tet_bar)."""
+    meshgen.write_gmsh22(path, *meshgen.sheared_tet_bar())
 
 
 def result(wd, out, energy="energy.csv"):

@@ -82,19 +82,8 @@ def strip_mesh():
 
 def tet_bar():
     """A 16 x 4 x 4 box of Kuhn tets (0.16 x 0.04 x 0.04 m) sheared (x += 0.5 y): its faces are
-    not normal to x. Node groups left / right: the faces of the tets wholly left / right of the
-    middle (x = 0.08 + 0.5 y)."""
-    X, E, _ = meshgen.box_tet_mesh(16, 4, 4, 0.16, 0.04, 0.04)
-    X = np.array(X, dtype=float)
-    s = X[:, 0].copy()  # the side, in the unsheared frame
-    X[:, 0] += 0.5 * X[:, 1]
-    faces = {"left": [], "right": []}
-    for t in E:
-        for name, side in (("left", s[t] < 0.08 - 1e-9), ("right", s[t] > 0.08 + 1e-9)):
-            if side.all():
-                faces[name] += [(t[0], t[1], t[2]), (t[0], t[1], t[3]), (t[0], t[2], t[3]),
-                                (t[1], t[2], t[3])]
-    return X, E, {k: np.array(v) for k, v in faces.items()}
+    not normal to x (meshgen.sheared_tet_bar, groups left / right)."""
+    return meshgen.sheared_tet_bar()
 
 
 def log_of(wd):
