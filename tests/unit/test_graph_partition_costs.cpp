@@ -27,15 +27,11 @@ TEST(ParticleCostTerm, FreeParticleCostsItsBaseTermAndTermsAddUp)
   EXPECT_DOUBLE_EQ(particle_cost(c, ParticleCounts{}), 0.0);
 }
 
-// The calibration times a free particle's step (both integrator halves, force clearing, gravity,
-// amortised binning and stencil walk): several pair checks, where the integrator's position
-// update alone (the term before) measured about a quarter of one.
-TEST(ParticleCostTerm, CalibrationPricesAFreeParticleAboveAPairCheck)
-{
-  const InteractionCosts c = calibrate_costs(0.02);
-  EXPECT_GT(c.particle, 1.0);
-  EXPECT_LT(c.particle, c.sphere_contact * 4); // same order as the other terms
-}
+// The calibration's price of a free particle (about 7 pair checks on the development VM,
+// docs/balance_comparison.md "Per-particle cost term") is a timing: it is measured by the bench,
+// not asserted here (a timed order of two kernels fails on a loaded machine);
+// BalanceKernels.CalibratedCostsAreNormalisedPositiveAndFinite checks what calibration
+// guarantees for every term, the particle's included.
 
 // Two ranks: a dense bed (every particle 12 pair checks, 6 contacts) and a dilute cloud (no
 // neighbours). Real cost per step: particle 13, pair check 1, contact 35 (the fitted figures of
