@@ -1275,12 +1275,9 @@ void FeSpace::add_viscous_forces(const Mesh& mesh, const double* x, const double
     const ElemType t = mesh.etype[e];
     const int n = nodes_per_elem(t);
     const int* conn = mesh.conn[e].data();
-    double p[12], g[kQuadBlock], meas, value;
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 3; ++i)
-        p[3 * a + i] = x[3 * conn[a] + i];
+    double g[kQuadBlock];
     // An inverted element has no current gradients; it stops the run (or is eroded) anyway.
-    if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) != Geo::Ok) continue;
+    if (!current_geometry(mesh, x, e, g)) continue;
     double bw[12], bw0[12];
     const double W = weighted_gradients(t, g, bw);
     const double W0 = weighted_gradients(t, &geo_[offset_[e]], bw0);
@@ -1315,11 +1312,8 @@ void FeSpace::add_given_viscous_forces(const Mesh& mesh, const double* x, int e_
     const ElemType t = mesh.etype[e];
     const int n = nodes_per_elem(t);
     const int* conn = mesh.conn[e].data();
-    double p[12], g[kQuadBlock], meas, value;
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 3; ++i)
-        p[3 * a + i] = x[3 * conn[a] + i];
-    if (element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) != Geo::Ok) continue;
+    double g[kQuadBlock];
+    if (!current_geometry(mesh, x, e, g)) continue;
     double bw[12];
     const double q = force_scale[e] / weighted_gradients(t, g, bw);
     for (int a = 0; a < n; ++a)
@@ -1346,14 +1340,18 @@ void FeSpace::add_given_viscous_forces(const Mesh& mesh, const double* x, int e_
 double FeSpace::omega2_bound(const Mesh& mesh, const double* x, int e) const
 {
   if (!x) return omega2_of(mesh, e, nullptr);
+  double g[kQuadBlock];
+  return omega2_of(mesh, e, current_geometry(mesh, x, e, g) ? g : nullptr);
+}
+
+bool FeSpace::current_geometry(const Mesh& mesh, const double* x, int e, double* g) const
+{
   const ElemType t = mesh.etype[e];
-  const int n = nodes_per_elem(t);
-  double p[12], g[kQuadBlock], meas, value;
-  for (int a = 0; a < n; ++a)
+  double p[12], meas, value;
+  for (int a = 0; a < nodes_per_elem(t); ++a)
     for (int i = 0; i < 3; ++i)
       p[3 * a + i] = x[3 * mesh.conn[e][a] + i];
-  const bool ok = element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) == Geo::Ok;
-  return omega2_of(mesh, e, ok ? g : nullptr);
+  return element_geometry(t, p, axisym_, mat_.thickness, g, meas, value) == Geo::Ok;
 }
 
 double FeSpace::omega2_of(const Mesh& mesh, int e, const double* g_current) const

@@ -139,6 +139,9 @@ private:
   double evaluate_copy(const Mesh& mesh, const double* x, int e, const double* state,
                        double s[6]) const;
   double omega2_bound(const Mesh& mesh, const double* x, int e) const;
+  // Element e's geometry block at the positions x into g (kQuadBlock doubles); false where it is
+  // inverted or degenerate there.
+  bool current_geometry(const Mesh& mesh, const double* x, int e, double* g) const;
   // The same bound from the reference block and, if not null, element e's block g_current of
   // the current configuration.
   double omega2_of(const Mesh& mesh, int e, const double* g_current) const;
