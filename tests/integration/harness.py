@@ -208,3 +208,23 @@ def energy_balance(e):
            + np.array(e["eroded_energy"]))
     work = np.array(e["boundary_work"])
     return float(np.max(np.abs(lhs - work)) / np.max(np.abs(work)))
+
+
+def worst_energy_by_step(a, b):
+    """Worst difference of two energy files (read_csv dicts) over the columns, each relative to
+    its scale (largest |value| in a), and its column; b may start later (a continued run): rows
+    matched by step. inf where b lacks a step or a column."""
+    import numpy as _np  # only the tests that compare energy files need it
+
+    worst, name = 0.0, ""
+    rows = [a["step"].index(s) for s in b["step"] if s in a["step"]]
+    if len(rows) != len(b["step"]) or not rows:
+        return float("inf"), "step"
+    for col in a:
+        ra, rb = _np.array(a[col], float)[rows], _np.array(b.get(col, []), float)
+        if ra.shape != rb.shape:
+            return float("inf"), col
+        w = float(_np.max(_np.abs(ra - rb))) / max(_np.max(_np.abs(ra)), 1e-300)
+        if w > worst:
+            worst, name = w, col
+    return worst, name

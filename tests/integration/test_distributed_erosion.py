@@ -95,22 +95,6 @@ def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, r
                 wd=wd)
 
 
-def worst_energy(a, b):
-    """b may start later (a continued run): rows matched by step."""
-    worst, name = 0.0, ""
-    rows = [a["step"].index(s) for s in b["step"] if s in a["step"]]
-    if len(rows) != len(b["step"]) or not rows:
-        return float("inf"), "step"
-    for col in a:
-        ra, rb = np.array(a[col], float)[rows], np.array(b.get(col, []), float)
-        if ra.shape != rb.shape:
-            return float("inf"), col
-        w = float(np.max(np.abs(ra - rb))) / max(np.max(np.abs(ra)), 1e-300)
-        if w > worst:
-            worst, name = w, col
-    return worst, name
-
-
 def worst_thermo(a, b):
     """Rows of b matched to a's by step (b may be a continued run's, whose set-up row at the
     restart step falls between a's rows: rows a does not have are left out)."""
@@ -135,7 +119,7 @@ def compare(label, ref, d, after=-1):
             f"{label}: the same {len(lines)} erosion / substep log lines"
             + ("" if d["lines"] == lines else f"\n  np 1: {lines[:3]}\n  "
                f"{label}: {d['lines'][:3]}"))
-    w, col = worst_energy(ref["energy"], d["energy"])
+    w, col = h.worst_energy_by_step(ref["energy"], d["energy"])
     h.check(w < TOL, f"{label}: energy file within {w:.1e} of each column's scale "
                      f"(worst: {col}; tolerance {TOL:g})")
     w, col = worst_thermo(ref["thermo"], d["thermo"])

@@ -80,23 +80,6 @@ def resume(wd, np_, parallel, frac, rest):
     return result(wd2, out, "energy_continued.csv")
 
 
-def worst_energy(a, b):
-    """b may start later (a continued run): rows matched by step."""
-    worst, name = 0.0, ""
-    rows = [a["step"].index(s) for s in b["step"] if s in a["step"]]
-    if len(rows) != len(b["step"]) or not rows:
-        return float("inf"), "step"
-    for col in a:
-        ra, rb = np.array(a[col], float)[rows], np.array(b[col], float)
-        if ra.shape != rb.shape:
-            return float("inf"), col
-        scale = max(np.max(np.abs(ra)), 1e-300)
-        w = float(np.max(np.abs(ra - rb))) / scale
-        if w > worst:
-            worst, name = w, col
-    return worst, name
-
-
 def worst_thermo(a, b):
     """Rows of b matched to a's by step (b may be a continued run's)."""
     (ha, ra), (hb, rb) = a, b
@@ -119,7 +102,7 @@ def compare(label, ref, other, after=-1):
     events = [ln for ln in ref["events"] if int(re.search(r"step (\d+):", ln).group(1)) > after]
     h.check(len(events) > 0 and other["events"] == events,
             f"{label}: the same {len(events)} split / cut / fragment log lines")
-    w, col = worst_energy(ref["energy"], other["energy"])
+    w, col = h.worst_energy_by_step(ref["energy"], other["energy"])
     h.check(w < TOL, f"{label}: energy file within {w:.1e} of each column's scale "
                      f"(worst: {col}; tolerance {TOL:g})")
     w, col = worst_thermo(ref["thermo"], other["thermo"])
