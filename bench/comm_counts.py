@@ -1,5 +1,5 @@
 """Exact MPI communication counts per rank and step on the settling bed (stock slabs, graph
-ownership with the METIS and the compact `rcb` partitioner, and LAMMPS rcb where Debian's `lmp`
+ownership with the METIS, the compact `rcb` and the brick-wall `layers` partitioner, and LAMMPS rcb where Debian's `lmp`
 is installed), with the PMPI counter (build/libfracdem_mpicount.so, LD_PRELOADed). Two runs of
 different lengths per method; their difference is the traffic of the steps in between, set-up
 excluded. Counts do not depend on the machine, so oversubscribed rank counts are as valid as any.
@@ -9,7 +9,7 @@ per-rank neighbour pairs at the end (what `fix balance rcb weight neigh` balance
 
     python3 bench/comm_counts.py [--exe build/fracdem] [--ranks 4 8 16] [--steps 400 1400]
         [--scene settle|settle_large|hopper_large] [--var NAME VALUE]
-        [--csv bench/results/comm_counts.csv] [--png bench/results/comm_counts.png]
+        [--csv bench/results/comm_counts.csv [--append]] [--png bench/results/comm_counts.png]
 
 The large scenes (issue #11 item 6) are those of bench/balance_compare.py: the settling bed 4 x 4
 times as wide (85 536 spheres) and the pre-filled large hopper (no LAMMPS reference: LAMMPS has
@@ -34,6 +34,8 @@ METHODS = {  # name -> variables of the scene's fracdem input (LAMMPS: of its LA
     "graph a posteriori counts rcb": dict(thresh=1.05, cost="counts", every=200, partitioner="rcb"),
     "graph a posteriori counts rcb, diffusion": dict(thresh=1.05, cost="counts", every=200,
                                                      partitioner="rcb repartition refine"),
+    "graph a posteriori counts layers": dict(thresh=1.05, cost="counts", every=200,
+                                             partitioner="layers"),
     "LAMMPS rcb neigh": dict(balance="rcb_neigh", every=200, thresh=1.05),
 }
 SCENES = {  # scene -> (fracdem input, LAMMPS input or None, scene variables, mesh writer)
@@ -99,6 +101,24 @@ def measure(exe, lib, method, np_, steps, sites, scene="settle", extra=None):
     return s
 
 
+def merge_rows(path, rows):
+    """The rows of an earlier CSV (numbers as floats, empty cells left out) whose (method, ranks)
+    was not measured now, with the new rows, ordered by ranks and then the methods' order."""
+    new = {(m, n) for m, n, _ in rows}
+    old = []
+    for r in csv.DictReader(open(path)):
+        key = (r["method"], int(r["ranks"]))
+        if key in new:
+            continue
+        s = {k: float(v) for k, v in r.items() if k not in ("method", "ranks") and v != ""}
+        s["project_coll"] = {}
+        old.append((key[0], key[1], s))
+    order = list(METHODS)
+    merged = old + rows
+    merged.sort(key=lambda t: (t[1], order.index(t[0]) if t[0] in order else len(order)))
+    return merged
+
+
 def plot(rows, path, suptitle):
     import matplotlib
 
@@ -158,6 +178,8 @@ def main():
                     help="input variable for every run (e.g. --var every 100), over the method's")
     ap.add_argument("--csv", help="write one row per method and rank count here")
     ap.add_argument("--png", help="plot partners, messages and B here")
+    ap.add_argument("--append", action="store_true",
+                    help="keep the rows of --csv for other (method, ranks) and plot them all")
     a = ap.parse_args()
     exe_path = os.path.abspath(a.exe)
     lib = a.lib or os.path.join(os.path.dirname(exe_path), "libfracdem_mpicount.so")
@@ -194,6 +216,8 @@ def main():
               f"{s['partners_avg']:.2f} ({s['partners_max']}) | {s['step_partners_avg']:.2f} "
               f"({s['step_partners_max']}) | {s['bytes_avg']:.0f} "
               f"({s['bytes_max']:.0f}) | {b} | {s['coll_max']:.3f} | {pc} |")
+    if a.append and a.csv and os.path.exists(a.csv):
+        rows = merge_rows(a.csv, rows)
     if a.csv:
         cols = ["method", "ranks", "msgs_avg", "msgs_max", "partners_avg", "partners_max",
                 "step_partners_avg", "step_partners_max", "bytes_avg", "bytes_max",

@@ -15,6 +15,7 @@
 #include "atom.h"
 #include "balance/compact_partition.h"
 #include "balance/graph_partition.h"
+#include "balance/layered_partition.h"
 #include "balance/scotch_partition.h"
 #include "comm.h"
 #include "comm_graph.h"
@@ -78,7 +79,8 @@ bool lookup(const KeywordEntry<T> (&table)[N], const std::string& value, T& out,
 const KeywordEntry<FixBalanceGraph::Partitioner> kPartitioners[] = {
     {"metis", FixBalanceGraph::Partitioner::Metis},
     {"scotch", FixBalanceGraph::Partitioner::Scotch},
-    {"rcb", FixBalanceGraph::Partitioner::Rcb}};
+    {"rcb", FixBalanceGraph::Partitioner::Rcb},
+    {"layers", FixBalanceGraph::Partitioner::Layers}};
 
 double thread_cpu_seconds()
 {
@@ -184,9 +186,12 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
       std::find(seen.begin(), seen.end(), "repartition") != seen.end())
     fail("keyword 'repartition' chooses how METIS is used; with 'partitioner scotch' each "
          "repartition is one SCOTCH_graphRepart call (drop 'repartition')");
-  if (partitioner_ == Partitioner::Rcb && cell_factor_ == 0.0)
-    fail("keyword 'partitioner rcb' cuts the cell grid by coordinates and needs cells (a cell "
-         "edge >= 1); it does not work with 'cells 0'");
+  if ((partitioner_ == Partitioner::Rcb || partitioner_ == Partitioner::Layers) &&
+      cell_factor_ == 0.0)
+    fail(std::string("keyword 'partitioner ") +
+         (partitioner_ == Partitioner::Rcb ? "rcb" : "layers") +
+         "' cuts the cell grid by coordinates and needs cells (a cell edge >= 1); it does not "
+         "work with 'cells 0'");
 
   scalar_flag = 1;
   vector_flag = 1;
@@ -617,8 +622,9 @@ FixBalanceGraph::gather_graph(const std::vector<std::int64_t>& verts,
 
 std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Graph& g,
                                                     const std::vector<int>& old_owner,
-                                                    double stats[2],
-                                                    const std::vector<double>* xyz) const
+                                                    double stats[2], const std::vector<double>* xyz,
+                                                    const std::vector<std::int64_t>* cells,
+                                                    std::string* layout) const
 {
   namespace fb = fracdem::balance;
   const int nprocs = comm->nprocs;
@@ -633,21 +639,28 @@ std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Grap
     refined = true;
   } else if (strategy_ == Strategy::Refine ||
              (strategy_ == Strategy::Auto && current < kRefineBelow &&
-              partitioner_ != Partitioner::Rcb)) {
-    // (partitioner rcb: `auto` cuts from scratch every time; diffusion from the current owners
-    // erodes the boxes, 9.1 against 8.5 partners per rank at 16 ranks on the settling bed.)
+              partitioner_ != Partitioner::Rcb && partitioner_ != Partitioner::Layers)) {
+    // (partitioner rcb and layers: `auto` cuts from scratch every time; diffusion from the
+    // current owners erodes the boxes, 9.1 against 8.5 partners per rank at 16 ranks on the
+    // settling bed.)
     part = old_owner;
     refined = fb::refine_partition(g, part, nprocs, kMetisImbalanceTolerance, kRefinePasses) <=
               kRefinePasses;
   }
   if (!refined && strategy_ != Strategy::Refine) {
     // From scratch, then relabelled so that most of the load stays where it is.
-    const std::vector<int> fresh =
-        partitioner_ == Partitioner::Rcb && xyz
-            ? fb::partition_compact(g, *xyz, nprocs, kMetisImbalanceTolerance)
-            : fb::partition_kway(g, nprocs, kMetisImbalanceTolerance);
+    std::vector<int> fresh;
+    if (partitioner_ == Partitioner::Layers && cells) {
+      fb::LayerLayout chosen;
+      fresh = fb::partition_layers(g, grid_, *cells, nprocs, kMetisImbalanceTolerance, &chosen);
+      if (layout) *layout = chosen.describe();
+    } else if (partitioner_ == Partitioner::Rcb && xyz) {
+      fresh = fb::partition_compact(g, *xyz, nprocs, kMetisImbalanceTolerance);
+    } else {
+      fresh = fb::partition_kway(g, nprocs, kMetisImbalanceTolerance);
+    }
     part = fb::relabel_max_overlap(fresh, old_owner, load, nprocs);
-  } else if (partitioner_ == Partitioner::Rcb) {
+  } else if (partitioner_ == Partitioner::Rcb || partitioner_ == Partitioner::Layers) {
     // Diffusion leaves steps in the boundaries it moved: smooth them without new partners.
     fb::smooth_partition(g, part, nprocs, kMetisImbalanceTolerance);
   }
@@ -862,8 +875,19 @@ void FixBalanceGraph::repartition_cells(const LocalCosts& lc)
             centre[3 * v + d] = grid_.lo[d] + (static_cast<double>(c[d]) + 0.5) * grid_.size[d];
         }
       }
-      const std::vector<int> part = partition_on_root(g, old_owner, stats, &centre);
+      std::string layout;
+      const std::vector<int> part =
+          partition_on_root(g, old_owner, stats, &centre, &cells, &layout);
       owners = fb::fill_cell_owners(grid_, cells, part);
+      // partitioner layers: say which layout was chosen whenever it changes (the rcb fallback
+      // included), not at every repartition.
+      const std::string kind = layout.substr(0, layout.find(','));
+      if (!layout.empty() && kind != layout_kind_) {
+        layout_kind_ = kind;
+        const std::string line = "fix balance/graph: partitioner layers: " + layout + "\n";
+        if (screen) fputs(line.c_str(), screen);
+        if (logfile) fputs(line.c_str(), logfile);
+      }
     } catch (const std::exception& ex) {
       failed = 1;
       failure = ex.what();

@@ -42,7 +42,7 @@ public:
   enum class GraphModel { APriori, APosteriori };
   enum class CostModel { Counts, Calibrated, Timed, Fitted };
   enum class Strategy { Auto, Refine, Scratch };
-  enum class Partitioner { Metis, Scotch, Rcb };
+  enum class Partitioner { Metis, Scotch, Rcb, Layers };
 
 private:
   // What one check measured on this rank, per local particle and in total.
@@ -67,6 +67,7 @@ private:
   std::vector<std::string> insert_regions_; // limit the insertion ghost cover to these
   double cell_factor_ = 2.0; // cell edge in ghost cutoffs; 0 = one vertex per particle
   fracdem::balance::CellGrid grid_;
+  std::string layout_kind_; // partitioner layers: the layout last reported (rank 0)
   fracdem::balance::InteractionCosts costs_;
   fracdem::balance::InteractionCosts calibrated_; // the start-up costs (prior of cost fitted)
   // cost fitted: the samples (one per rank and check) of the last few checks, oldest first.
@@ -113,11 +114,15 @@ private:
   };
   GatheredGraph gather_graph(const std::vector<std::int64_t>& verts,
                              const std::vector<std::int64_t>& edges) const;
-  // Partition of a gathered graph on rank 0: refine from old_owner, or from scratch by METIS or
-  // (partitioner rcb) by RCB of the vertex coordinates xyz (cell centres; null with cells 0).
+  // Partition of a gathered graph on rank 0: refine from old_owner, or from scratch by METIS,
+  // (partitioner rcb) by RCB of the vertex coordinates xyz (cell centres; null with cells 0) or
+  // (partitioner layers) by the layered layout of the vertices' cells of grid_, described in
+  // *layout.
   std::vector<int> partition_on_root(const fracdem::balance::Graph& g,
                                      const std::vector<int>& old_owner, double stats[2],
-                                     const std::vector<double>* xyz = nullptr) const;
+                                     const std::vector<double>* xyz = nullptr,
+                                     const std::vector<std::int64_t>* cells = nullptr,
+                                     std::string* layout = nullptr) const;
   void write_row(bool repartitioned, double partition_seconds);
 };
 

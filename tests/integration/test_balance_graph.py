@@ -29,8 +29,9 @@ def worst_rel(a, b, names):
 # Configurations: the a posteriori model with plain counts, the a priori model with calibrated
 # costs while fix insert/rate/region keeps inserting into the stock bricks (ghosts covering the
 # whole bricks, or only the named insertion region), one graph vertex per particle (cells 0:
-# particles stay on their rank between repartitions) instead of cells, and Scotch's
-# SCOTCH_graphRepart with the cost model fitted to the measured time.
+# particles stay on their rank between repartitions) instead of cells, Scotch's
+# SCOTCH_graphRepart with the cost model fitted to the measured time, and the layered (brick-wall)
+# partitioner of the cells.
 CONFIGS = [("aposteriori", dict(model="aposteriori", cost="counts", insert=0)),
            ("apriori+insert", dict(model="apriori", cost="calibrated", insert=1)),
            ("insert+region cover", dict(model="aposteriori", cost="counts", insert=1,
@@ -38,7 +39,9 @@ CONFIGS = [("aposteriori", dict(model="aposteriori", cost="counts", insert=0)),
            ("particle vertices", dict(model="aposteriori", cost="counts", insert=0,
                                       cover="cells 0")),
            ("scotch fitted", dict(model="aposteriori", cost="fitted", insert=0,
-                                  cover="partitioner scotch"))]
+                                  cover="partitioner scotch")),
+           ("layers", dict(model="aposteriori", cost="counts", insert=0,
+                           cover="partitioner layers"))]
 for np_ in (2, 3):
     for name, cfg in CONFIGS:
         stock, _, _ = run(np_, f"stock_{cfg['model']}", balance=0, insert=cfg["insert"])
