@@ -103,7 +103,7 @@ def measure(exe, lib, method, np_, steps, sites, scene="settle", extra=None):
 
 def merge_rows(path, rows):
     """The rows of an earlier CSV (numbers as floats, empty cells left out) whose (method, ranks)
-    was not measured now, with the new rows, ordered by ranks and then the methods' order."""
+    was not measured now, then the new rows, per rank count."""
     new = {(m, n) for m, n, _ in rows}
     old = []
     for r in csv.DictReader(open(path)):
@@ -113,9 +113,8 @@ def merge_rows(path, rows):
         s = {k: float(v) for k, v in r.items() if k not in ("method", "ranks") and v != ""}
         s["project_coll"] = {}
         old.append((key[0], key[1], s))
-    order = list(METHODS)
     merged = old + rows
-    merged.sort(key=lambda t: (t[1], order.index(t[0]) if t[0] in order else len(order)))
+    merged.sort(key=lambda t: t[1])  # stable: per rank count the earlier rows, then the new
     return merged
 
 

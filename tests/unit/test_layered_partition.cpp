@@ -163,3 +163,20 @@ TEST(LayeredPartition, CoarseCellsFallBackToRcbAndInputChecks)
   EXPECT_THROW(layer_partition(s.g, s.grid, s.cells, bad), std::invalid_argument);
   EXPECT_THROW(grid_partners(s.grid, s.cells, {0}, 2), std::invalid_argument);
 }
+
+TEST(LayeredPartition, ASettlingBedIsNotCutAcrossItsLayers)
+{
+  // The small settling bed in cells (7 x 7 x 16): its weighted extent along z is as large as
+  // across, but the work is layered along z (dense floor, dilute cloud): z-strips would have
+  // fewer partners (1.5 at 4 parts) and are not offered.
+  const Scene s = scene(7, 7, 16, true, bed);
+  for (int nparts : {2, 4, 8, 16}) {
+    LayerLayout chosen;
+    const std::vector<int> part = partition_layers(s.g, s.grid, s.cells, nparts, 1.02, &chosen);
+    EXPECT_LE(load_imbalance(s.g, part, nparts), 1.02 + 1e-9) << nparts;
+    if (!chosen.rcb) {
+      EXPECT_NE(chosen.parts_axis, 2) << nparts << ": " << chosen.describe();
+      EXPECT_TRUE(chosen.rows == 1 || chosen.rows_axis != 2) << nparts << ": " << chosen.describe();
+    }
+  }
+}
