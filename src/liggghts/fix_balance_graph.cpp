@@ -22,6 +22,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_fem_body.h"
+#include "fix_gravity.h"
 #include "fix_wall_gran.h"
 #include "force.h"
 #include "modify.h"
@@ -652,7 +653,8 @@ std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Grap
     std::vector<int> fresh;
     if (partitioner_ == Partitioner::Layers && cells) {
       fb::LayerLayout chosen;
-      fresh = fb::partition_layers(g, grid_, *cells, nprocs, kMetisImbalanceTolerance, &chosen);
+      fresh = fb::partition_layers(g, grid_, *cells, nprocs, kMetisImbalanceTolerance, &chosen,
+                                   gravity_axis());
       if (layout) *layout = chosen.describe();
     } else if (partitioner_ == Partitioner::Rcb && xyz) {
       fresh = fb::partition_compact(g, *xyz, nprocs, kMetisImbalanceTolerance);
@@ -667,6 +669,19 @@ std::vector<int> FixBalanceGraph::partition_on_root(const fracdem::balance::Grap
   stats[0] = fb::imbalance(fb::part_loads(load, part, nprocs));
   stats[1] = static_cast<double>(fb::edge_cut(g, part));
   return part;
+}
+
+int FixBalanceGraph::gravity_axis() const
+{
+  // The axis of the largest component of fix gravity's acceleration (-1: no gravity).
+  double g[3] = {0, 0, 0};
+  for (int i = 0; i < modify->nfix; ++i)
+    if (!strcmp(modify->fix[i]->style, "gravity"))
+      static_cast<FixGravity*>(modify->fix[i])->get_gravity(g);
+  int axis = -1;
+  for (int d = 0; d < 3; ++d)
+    if (g[d] != 0.0 && (axis < 0 || std::abs(g[d]) > std::abs(g[axis]))) axis = d;
+  return axis;
 }
 
 void FixBalanceGraph::repartition(const LocalCosts& lc)

@@ -124,6 +124,8 @@ private:
                                      const std::vector<std::int64_t>* cells = nullptr,
                                      std::string* layout = nullptr) const;
   void write_row(bool repartitioned, double partition_seconds);
+  // partitioner layers: the axis of the gravity of fix gravity, never cut by a layout (-1: none).
+  int gravity_axis() const;
 };
 
 } // namespace LAMMPS_NS

@@ -180,3 +180,23 @@ TEST(LayeredPartition, ASettlingBedIsNotCutAcrossItsLayers)
     }
   }
 }
+
+TEST(LayeredPartition, NoLayoutCutsAcrossGravity)
+{
+  // A uniform 24^3 grid, periodic in x and y: z-layers have the fewest partners (1.5 on average,
+  // the closed ends touch one) and are chosen without gravity_axis; with gravity along z (the
+  // host's fix gravity) the layout is strips along x or y (2 partners each).
+  const Scene s = scene(24, 24, 24, true, uniform);
+  LayerLayout free_layout, settled;
+  const std::vector<int> free_part = partition_layers(s.g, s.grid, s.cells, 4, 1.02, &free_layout);
+  EXPECT_FALSE(free_layout.rcb);
+  EXPECT_EQ(free_layout.parts_axis, 2) << free_layout.describe();
+  EXPECT_DOUBLE_EQ(free_layout.partners_avg, 1.5);
+  const std::vector<int> part =
+      partition_layers(s.g, s.grid, s.cells, 4, 1.02, &settled, /*gravity_axis=*/2);
+  EXPECT_LE(load_imbalance(s.g, part, 4), 1.02 + 1e-9);
+  ASSERT_FALSE(settled.rcb) << settled.describe();
+  EXPECT_NE(settled.parts_axis, 2) << settled.describe();
+  EXPECT_TRUE(settled.rows == 1 || settled.rows_axis != 2) << settled.describe();
+  EXPECT_EQ(max_of(grid_partners(s.grid, s.cells, part, 4)), 2);
+}

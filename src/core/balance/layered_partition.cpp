@@ -177,7 +177,7 @@ double plane_variation(const Cells& d, const CellGrid& grid, int a)
 // dilute above, varies ~10 x more along gravity than across it, where the planes are alike; cut
 // across its layers, particles settling through the cuts carry work from part to part: B drifted
 // to 1.18-1.30 between checks on the small bed at 8 ranks with z-strips).
-std::vector<int> cut_axes(const Cells& d, const CellGrid& grid)
+std::vector<int> cut_axes(const Cells& d, const CellGrid& grid, int gravity_axis)
 {
   double spread[3] = {0, 0, 0}, variation[3] = {0, 0, 0}, total = 0, least_variation = -1;
   for (double w : d.w)
@@ -197,7 +197,7 @@ std::vector<int> cut_axes(const Cells& d, const CellGrid& grid)
   const double largest = std::max({spread[0], spread[1], spread[2]});
   std::vector<int> axes;
   for (int a = 0; a < 3; ++a)
-    if (grid.n[a] >= 2 && spread[a] >= 0.5 * largest && spread[a] > 0 &&
+    if (grid.n[a] >= 2 && a != gravity_axis && spread[a] >= 0.5 * largest && spread[a] > 0 &&
         variation[a] <= std::max(kLayeredVariation, 2 * least_variation))
       axes.push_back(a);
   return axes;
@@ -322,7 +322,7 @@ std::vector<int> grid_partners(const CellGrid& grid, const std::vector<int64_t>&
 
 std::vector<int> partition_layers(const Graph& g, const CellGrid& grid,
                                   const std::vector<int64_t>& cells, int nparts, double ubfactor,
-                                  LayerLayout* chosen)
+                                  LayerLayout* chosen, int gravity_axis)
 {
   if (nparts < 1) throw std::invalid_argument("partition_layers: nparts must be >= 1");
   const Cells d = cell_data(g, grid, cells);
@@ -335,7 +335,7 @@ std::vector<int> partition_layers(const Graph& g, const CellGrid& grid,
       xyz[3 * v + a] = grid.lo[a] + (static_cast<double>(d.c[v][a]) + 0.5) * grid.size[a];
   cand[0].layout.rcb = true;
   cand[0].part = partition_compact(g, xyz, nparts, ubfactor);
-  for (const LayerLayout& l : layouts(cut_axes(d, grid), grid, nparts))
+  for (const LayerLayout& l : layouts(cut_axes(d, grid, gravity_axis), grid, nparts))
     cand.push_back({l, layer_partition(g, grid, cells, l)});
   for (Candidate& c : cand) {
     const std::vector<double> load(g.vwgt.begin(), g.vwgt.end());
