@@ -175,8 +175,8 @@ double plane_variation(const Cells& d, const CellGrid& grid, int a)
 // largest; and not layered: the plane-to-plane variation of the work along the axis at most
 // kLayeredVariation or twice the smallest of the axes' (a settling bed, dense at the floor and
 // dilute above, varies ~10 x more along gravity than across it, where the planes are alike; cut
-// across its layers, particles settling through the cuts carry work from part to part: B drifted
-// to 1.18-1.30 between checks on the small bed at 8 ranks with z-strips).
+// across its layers, particles settling through the cuts carry work from part to part: with
+// z-strips B at the checks reached 1.33, mean 1.18, on the small bed at 8 ranks).
 std::vector<int> cut_axes(const Cells& d, const CellGrid& grid, int gravity_axis)
 {
   double spread[3] = {0, 0, 0}, variation[3] = {0, 0, 0}, total = 0, least_variation = -1;
