@@ -230,6 +230,30 @@ bool better(const LayerLayout& a, const LayerLayout& b)
   return a.ghost < b.ghost;
 }
 
+// The rule: within the load tolerance (all, if none is), within the ghost window of the least
+// ghost volume, the fewest partners (average, then maximum), then the least ghost volume; exact
+// ties to the first enumerated.
+size_t choose(const std::vector<Candidate>& cand, double ubfactor)
+{
+  bool any_within = false;
+  for (const Candidate& c : cand)
+    any_within = any_within || c.layout.imbalance <= ubfactor;
+  const auto admissible_load = [&](const Candidate& c) {
+    return !any_within || c.layout.imbalance <= ubfactor;
+  };
+  double least_ghost = -1;
+  for (const Candidate& c : cand)
+    if (admissible_load(c) && (least_ghost < 0 || c.layout.ghost < least_ghost))
+      least_ghost = c.layout.ghost;
+  size_t best = cand.size();
+  for (size_t k = 0; k < cand.size(); ++k) {
+    const Candidate& c = cand[k];
+    if (!admissible_load(c) || c.layout.ghost > kGhostWindow * least_ghost) continue;
+    if (best == cand.size() || better(c.layout, cand[best].layout)) best = k;
+  }
+  return best;
+}
+
 } // namespace
 
 std::string LayerLayout::describe() const
@@ -343,24 +367,7 @@ std::vector<int> partition_layers(const Graph& g, const CellGrid& grid,
       refine_partition(g, c.part, nparts, ubfactor, 64);
     predict(g, grid, cells, nparts, c);
   }
-  // The rule: within the load tolerance, within the ghost window, fewest partners.
-  bool any_within = false;
-  for (const Candidate& c : cand)
-    any_within = any_within || c.layout.imbalance <= ubfactor;
-  const auto admissible_load = [&](const Candidate& c) {
-    return !any_within || c.layout.imbalance <= ubfactor;
-  };
-  double least_ghost = -1;
-  for (const Candidate& c : cand)
-    if (admissible_load(c) && (least_ghost < 0 || c.layout.ghost < least_ghost))
-      least_ghost = c.layout.ghost;
-  size_t best = cand.size();
-  for (size_t k = 0; k < cand.size(); ++k) {
-    const Candidate& c = cand[k];
-    if (!admissible_load(c) || c.layout.ghost > kGhostWindow * least_ghost) continue;
-    if (best == cand.size() || better(c.layout, cand[best].layout)) best = k;
-  }
-  Candidate& win = cand[best];
+  Candidate& win = cand[choose(cand, ubfactor)];
   Candidate smoothed = win;
   smooth_partition(g, smoothed.part, nparts, ubfactor);
   predict(g, grid, cells, nparts, smoothed);
