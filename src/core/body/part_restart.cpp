@@ -521,30 +521,41 @@ void unpack_part_message_state(const std::vector<double>& message, std::size_t a
 namespace
 {
 
-constexpr int kOwnHead = 4;                             // topology set, cut, nodes, elements
-constexpr int kOwnNode = 1 + Body::kNodeRecordSize + 4; // global, pack_node, topology
-constexpr int kOwnElem = 4;                             // global, parent, root, fragment
+constexpr int kOwnHead = 4; // topology set, cut, nodes, elements
+constexpr int kOwnNode = 5; // global, parent, cut ends, split
+constexpr int kOwnElem = 4; // global, parent, root, fragment
 
-// The part's own state: every local node (shared ones too, as this part holds them) and its
-// topology (empty fields before the first change: then zeros, and set = 0).
+// The part's own state beside its pack_part_whole: every local node's topology, every element's,
+// then Body::pack_node of each node it does not own (a shared node as this part holds it; the
+// nodes it owns are in pack_part_whole). Topology fields are empty before the first change:
+// zeros then, and set = 0.
 std::vector<double> pack_own_part(const Body& body, const MeshPart& part, const PartTopology& topo)
 {
   const int nn = part.num_nodes(), ne = body.mesh().num_elems();
   const bool set = !topo.elem_fragment.empty();
   std::vector<double> buf = {set ? 1.0 : 0.0, topo.cut ? 1.0 : 0.0, double(nn), double(ne)};
-  buf.reserve(kOwnHead + kOwnNode * static_cast<size_t>(nn) + kOwnElem * static_cast<size_t>(ne));
-  for (int n = 0; n < nn; ++n) {
-    buf.push_back(part.global_node[n]);
-    buf.resize(buf.size() + Body::kNodeRecordSize);
-    body.pack_node(n, buf.data() + buf.size() - Body::kNodeRecordSize);
-    buf.insert(buf.end(), {double(topo.node_parent[n]), double(topo.cut_u[n]),
-                           double(topo.cut_w[n]), set ? double(topo.node_split[n]) : 0.0});
-  }
+  for (int n = 0; n < nn; ++n)
+    buf.insert(buf.end(),
+               {double(part.global_node[n]), double(topo.node_parent[n]), double(topo.cut_u[n]),
+                double(topo.cut_w[n]), set ? double(topo.node_split[n]) : 0.0});
   for (int e = 0; e < ne; ++e)
     buf.insert(buf.end(),
                {double(part.global_elem[e]), double(topo.elem_parent[e]),
                 set ? double(topo.elem_root[e]) : 0.0, set ? double(topo.elem_fragment[e]) : 0.0});
+  for (int n = 0; n < nn; ++n) {
+    if (body.counted(n)) continue;
+    buf.resize(buf.size() + Body::kNodeRecordSize);
+    body.pack_node(n, buf.data() + buf.size() - Body::kNodeRecordSize);
+  }
   return buf;
+}
+
+// The first owned node's entry (global, pack_node, parent, cut ends) of a pack_part_whole.
+const double* whole_nodes(const double* w)
+{
+  const double* p = w + 3 + kAccounts;               // part, owned, elements, accounts
+  p += kOutputs + 1 + static_cast<int>(p[kOutputs]); // outputs and reactions
+  return p + 2 + static_cast<int>(p[1]);             // damaged points, failed elements
 }
 
 } // namespace
@@ -646,12 +657,10 @@ void restore_own_part(const PartRecords& r, Body& body, const MeshPart& part, Pa
   p += kOwnHead;
   for (int n = 0; n < nn; ++n, p += kOwnNode) {
     if (static_cast<int>(p[0]) != part.global_node[n]) mismatch("with another part's nodes");
-    body.unpack_node(n, p + 1);
-    const double* t = p + 1 + Body::kNodeRecordSize;
-    topo.node_parent[n] = static_cast<int>(t[0]);
-    topo.cut_u[n] = static_cast<int>(t[1]);
-    topo.cut_w[n] = static_cast<int>(t[2]);
-    if (set) topo.node_split[n] = static_cast<int>(t[3]);
+    topo.node_parent[n] = static_cast<int>(p[1]);
+    topo.cut_u[n] = static_cast<int>(p[2]);
+    topo.cut_w[n] = static_cast<int>(p[3]);
+    if (set) topo.node_split[n] = static_cast<int>(p[4]);
   }
   for (int e = 0; e < ne; ++e, p += kOwnElem) {
     if (static_cast<int>(p[0]) != part.global_elem[e]) mismatch("with another part's elements");
@@ -659,6 +668,17 @@ void restore_own_part(const PartRecords& r, Body& body, const MeshPart& part, Pa
     if (set) {
       topo.elem_root[e] = static_cast<int>(p[2]);
       topo.elem_fragment[e] = static_cast<int>(p[3]);
+    }
+  }
+  const double* owned = whole_nodes(r.whole[part.part]);
+  for (int n = 0; n < nn; ++n) { // owned nodes from pack_part_whole, the others from here
+    if (body.counted(n)) {
+      if (static_cast<int>(owned[0]) != part.global_node[n]) mismatch("with another part's nodes");
+      body.unpack_node(n, owned + 1);
+      owned += 1 + Body::kNodeRecordSize + 3;
+    } else {
+      body.unpack_node(n, p);
+      p += Body::kNodeRecordSize;
     }
   }
   // The part's accounts and output figures (pack_part_whole: part, owned, elements, accounts).

@@ -101,9 +101,10 @@ void unpack_part_message_state(const std::vector<double>& message, std::size_t a
 // First value of such a record. Layout: version, the rank count P, the whole body's node and
 // element counts, kDriverValues of the driver (its own figures, written by rank 0), the element
 // partition (per global element its part), then each part's block in part order. A block:
-// part, the length and values of pack_part_whole (what a merge at another count reads), the
-// length and values of the part's own state (every local node's Body::pack_node, its topology
-// in global numbers), which the same part at the same count takes back as it was.
+// part, the length and values of pack_part_whole (what a merge at another count reads: the nodes
+// it owns, its elements), the length and values of the rest of the part's own state (each local
+// node's and element's topology in global numbers, Body::pack_node of the shared nodes it does
+// not own, as it holds them), so that the same part at the same count comes back as it was.
 constexpr double kPartRecordsVersion = 101.0;
 constexpr int kDriverValues = 4;
 
