@@ -5,8 +5,9 @@ tet4, corotational) made to yield (J2, yield 20 MPa, so that every element carri
 history and bulk-viscosity accounts), 600 steps, `write_restart`, 400 more. Each rank of a
 distributed body writes its part's record (the nodes it owns and its elements by global index, and
 its own state as it holds it); rank 0 writes them one after the other behind the element
-partition. The same rank count takes each part back; another rank count, or a replicated body,
-merges them into the whole body (a distributed body then takes its part of a new partition). Asserted, against the uninterrupted np 1 replicated run:
+partition. The same rank count takes each part back; another rank count, or a replicated
+body, merges them into the whole body (a distributed body then takes its part of a new
+partition). Asserted, against the uninterrupted np 1 replicated run:
 
 * np 3 distributed restart continued at np 2 distributed, at np 1 (replicated), at np 4
   distributed; and the np 1 replicated restart continued at np 3 distributed: every thermo
@@ -95,8 +96,8 @@ def main():
     got_rows = h.thermo_text_rows(continued(wd3, 3, "distributed", text=True))
     n, differs = h.same_text_rows(ref_rows, got_rows, BASE["first"])
     h.check(n > 1 and differs is None,
-            f"np 3 distributed -> np 3 distributed: {n} thermo rows from step {BASE['first']} on as "
-            f"the uninterrupted np 3 run's, byte for byte"
+            f"np 3 distributed -> np 3 distributed: {n} thermo rows from step {BASE['first']} "
+            f"on as the uninterrupted np 3 run's, byte for byte"
             + ("" if differs is None else f" (step {differs} differs:\n  {ref_rows.get(differs)}"
                f"\n  {got_rows[differs]})"))
     print("OK")
