@@ -228,3 +228,36 @@ def worst_energy_by_step(a, b):
         if w > worst:
             worst, name = w, col
     return worst, name
+
+
+def thermo_text_rows(text, block=-1):
+    """The text lines of one thermo block (default: the last run's), keyed by their step."""
+    blocks, rows = [], None
+    for line in text.splitlines():
+        w = line.split()
+        if w and w[0] == "Step":
+            rows = {}
+            blocks.append(rows)
+        elif rows is not None and line.startswith("Loop time"):
+            rows = None
+        elif rows is not None and w and w[0].isdigit():
+            rows[int(w[0])] = line
+    return blocks[block] if blocks else {}
+
+
+def energy_text_rows(path):
+    """The text lines of an energy file's rows, keyed by their step (the header left out)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    return {int(ln.split(",")[0]): ln for ln in lines[1:] if ln}
+
+
+def same_text_rows(ref, got, first):
+    """(number of rows compared, the first step whose row differs or None): the rows of got
+    from step `first` on against ref's of the same step, as text (byte for byte); a step of got
+    that ref lacks differs."""
+    steps = sorted(s for s in got if s >= first)
+    for s in steps:
+        if ref.get(s) != got[s]:
+            return len(steps), s
+    return len(steps), None

@@ -13,10 +13,12 @@ the second) at np 3:
   figure), and the thermo (contacts, particle + body energy) within 1e-10 of its scale: the sphere
   meets, in the host step of an erosion, the surface without the eroded elements on every rank
   (the parts' facet ghosts are renewed before the contact).
-* restart: written at step 560 by np 3 distributed (after 3 batches; the record is then the
-  whole body's), continued at np 2 distributed and at np 1 replicated, and written and continued
-  at np 1: the later lines, energy rows and thermo rows as those of the uninterrupted np 1 run,
-  within 1e-10 of each column's scale.
+* restart: written at step 560 by np 3 distributed (after 3 batches), continued at np 2
+  distributed and at np 1 replicated (the parts' records merged), and written and continued at
+  np 1: the later lines, energy rows and thermo rows as those of the uninterrupted np 1 run,
+  within 1e-10 of each column's scale; continued at np 3 distributed (each rank takes its part
+  back as it was): thermo and energy rows from step 560 on as the uninterrupted np 3 run's, byte
+  for byte.
 * cost, with the PMPI counter at np 3 (difference of a 200- and a 300-step run, before the first
   erosion): the body's code takes exactly one integer reduction per host step for the erosion
   (BodyDriver::distributed_erosion), and no other collective but the stable step's re-estimate
@@ -67,9 +69,11 @@ run             ${steps}
 """
 
 
-def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, resume=None):
+def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, resume=None,
+        then=0):
     """parallel: the keyword's value and what follows it (e.g. 'distributed substeps 2'); write:
-    a restart file at the end; resume: the directory of a run that wrote one (continued)."""
+    a restart file at the end (then: and `then` steps more after it); resume: the directory of a
+    run that wrote one (continued)."""
     wd = tempfile.mkdtemp(prefix=f"distributed_erosion_{np_}_")
     h.copy_inputs(["in.fast_impact"], wd)
     h.make_box_mesh(os.path.join(wd, "block.msh"), (10, 10, 5), (0.1, 0.1, 0.05))
@@ -77,6 +81,8 @@ def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, r
     if write:
         with open(os.path.join(wd, script), "a") as f:
             f.write("write_restart   erosion.restart\n")
+            if then:
+                f.write(f"run             {then}\n")
     if resume:
         shutil.copy(os.path.join(resume, "erosion.restart"), wd)
         script = "in.continue"
@@ -92,7 +98,7 @@ def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, r
     lines = [ln for ln in log.splitlines() if re.search(r"eroded|substep", ln)]
     blocks = h.thermo_blocks(out)
     return dict(lines=lines, energy=h.read_csv(os.path.join(wd, "energy.csv")), thermo=blocks[-1],
-                wd=wd)
+                wd=wd, out=out)
 
 
 def worst_thermo(a, b):
@@ -139,7 +145,7 @@ for np_ in (2, 3, 4):
 ref2 = run(1, "replicated substeps 2")
 compare("substeps 2, np 3 distributed", ref2, run(3, "distributed substeps 2"))
 
-# Restart of the eroded distributed body (its record is then the whole body's), continued at
+# Restart of the eroded distributed body (the parts' records, merged), continued at
 # np 2 distributed and np 1 replicated, and the replicated restart (written and continued at
 # np 1): each against the uninterrupted np 1 run. The set-up evaluation of a continued run repeats
 # the last step's bulk-viscosity forces (those of its mid-step velocities, in the record); taken
@@ -149,10 +155,23 @@ rest = STEPS - RESTART_AT
 compare(f"restart at step {RESTART_AT} of np 1, continued at np 1", ref,
         run(1, "replicated", steps=rest,
             resume=run(1, "replicated", steps=RESTART_AT, write=True)["wd"]), after=RESTART_AT)
-first = run(3, "distributed", steps=RESTART_AT, write=True)
+first = run(3, "distributed", steps=RESTART_AT, write=True, then=rest)  # and goes on to STEPS
 for np_, parallel in ((2, "distributed"), (1, "replicated")):
     compare(f"restart at step {RESTART_AT} of np 3, continued at np {np_} {parallel}", ref,
             run(np_, parallel, steps=rest, resume=first["wd"]), after=RESTART_AT)
+# At the rank count that wrote it each rank takes its part back as it was: the continued run is
+# the uninterrupted np 3 run byte for byte.
+same = run(3, "distributed", steps=rest, resume=first["wd"])
+for what, ref_rows, got_rows in (
+        ("thermo", h.thermo_text_rows(first["out"]), h.thermo_text_rows(same["out"])),
+        ("energy file", h.energy_text_rows(os.path.join(first["wd"], "energy.csv")),
+         h.energy_text_rows(os.path.join(same["wd"], "energy.csv")))):
+    n, differs = h.same_text_rows(ref_rows, got_rows, RESTART_AT)
+    h.check(n > 1 and differs is None,
+            f"restart of the eroded body at np 3, continued at np 3: {n} {what} rows from step "
+            f"{RESTART_AT} on as the uninterrupted np 3 run's, byte for byte"
+            + ("" if differs is None else f" (step {differs} differs:\n  {ref_rows.get(differs)}"
+               f"\n  {got_rows[differs]})"))
 
 # Cost while nothing erodes: one integer reduction per host step (counted at np 3).
 LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")

@@ -16,7 +16,9 @@ apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel dis
 * cracks through tets (`min_size 0.2`) at np 3: the same; its restart file, written at step 500
   (after the first cuts and splits, before the last), continued at np 2 distributed and at np 1
   replicated: the log lines after step 500, thermo and energy-file rows as the uninterrupted
-  run's, within 1e-10 of each column's scale; its last fem/vtk frame's pieces carry the
+  run's, within 1e-10 of each column's scale; continued at np 3 distributed (each rank takes its
+  part of the record back as it was): thermo and energy-file rows from step 500 on as the
+  uninterrupted np 3 run's, byte for byte; its last fem/vtk frame's pieces carry the
   replicated frame's split, fragment and mesh_element fields (by global number);
 * three steel spheres hitting the bar across its crack (facet ghosts of the changed parts) at
   np 2 against np 1: thermo (particle kinetic energy, body energies, contact count, momenta)
@@ -160,6 +162,22 @@ for np_, parallel in ((2, "distributed"), (1, "replicated")):
     compare(f"restart at step {RESTART_AT} of np 3, continued at np {np_} {parallel}", ref_cut,
             resume(cut3["wd"], np_, parallel, "every 5 min_size 0.2", 1000 - RESTART_AT),
             after=RESTART_AT)
+
+# At the rank count that wrote it each rank takes its part back as it was (the stored partition,
+# its own nodes and accounts): the continued run is the uninterrupted np 3 run byte for byte.
+same = resume(cut3["wd"], 3, "distributed", "every 5 min_size 0.2", 1000 - RESTART_AT)
+compare(f"restart at step {RESTART_AT} of np 3, continued at np 3 distributed", cut3, same,
+        after=RESTART_AT)
+for what, ref_rows, got_rows in (
+        ("thermo", h.thermo_text_rows(cut3["out"]), h.thermo_text_rows(same["out"])),
+        ("energy file", h.energy_text_rows(os.path.join(cut3["wd"], "energy.csv")),
+         h.energy_text_rows(os.path.join(same["wd"], "energy_continued.csv")))):
+    n, differs = h.same_text_rows(ref_rows, got_rows, RESTART_AT)
+    h.check(n > 1 and differs is None,
+            f"restart of the broken body at np 3, continued at np 3: {n} {what} rows from step "
+            f"{RESTART_AT} on as the uninterrupted np 3 run's, byte for byte"
+            + ("" if differs is None else f" (step {differs} differs:\n  {ref_rows.get(differs)}"
+               f"\n  {got_rows[differs]})"))
 
 # Spheres hitting the breaking body: facet ghosts of the parts after each change.
 ref_b = run(1, "replicated", "every 5", 600, balls=1)

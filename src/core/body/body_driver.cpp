@@ -1308,22 +1308,18 @@ std::vector<double> BodyDriver::restart_record() const
   return buf;
 }
 
-// The parts' nodes and elements, gathered on rank 0 into one record of the whole body
-// (part_restart.h), which any rank count reads; the other ranks get nothing.
+// Each part's record (part_restart.h: its nodes and elements by global number, and its own
+// state as it holds it), gathered on rank 0, which writes them one after the other behind the
+// partition; the other ranks get nothing. No whole body is assembled.
 std::vector<double> BodyDriver::distributed_body_record() const
 {
-  if (broken()) { // the whole body's own record (its topology changed): gathered on rank 0
-    Body whole;
-    std::vector<int> owner;
-    std::vector<double> record;
-    if (gather_whole(whole, owner)) whole.pack_state(record);
-    return record;
-  }
-  const std::vector<double> mine = pack_part_state(body_, &part_);
+  const std::vector<double> mine = pack_part_record(body_, part_, topo_);
   const std::vector<double> all = host_.gather ? host_.gather(mine) : mine;
   if (host_.rank != 0) return {};
+  const double driver[kDriverValues] = {broken_ ? 1.0 : 0.0, double(whole_split_nodes_),
+                                        double(whole_fragments_), double(last_fragments_)};
   try {
-    return merge_part_states(all, global_nodes_, global_elems_);
+    return join_part_records(all, host_.nprocs, global_nodes_, global_elems_, driver);
   } catch (const std::exception& e) {
     fail_one(prefix() + e.what());
   }
@@ -1342,10 +1338,11 @@ void BodyDriver::write_restart(std::FILE* fp) const
   std::fwrite(buf.data(), sizeof(double), buf.size(), fp);
 }
 
-// A body record: the whole body's (Body::pack_state) or the parts' (part_restart.h), read by a
-// whole body or by this rank's part, at any rank count.
+// A body record: the whole body's (Body::pack_state), the parts' (part_restart.h) or, from older
+// files, the parts merged (kPartsRecordVersion), read by a whole body or by this rank's part.
 void BodyDriver::read_body_record(const double* record)
 {
+  if (record[0] == kPartRecordsVersion) return take_part_records(record);
   if (record[0] == kPartsRecordVersion) {
     unpack_parts_record(record, body_, distributed_ ? &part_ : nullptr,
                         !distributed_ || host_.rank == 0);
@@ -1355,6 +1352,12 @@ void BodyDriver::read_body_record(const double* record)
   Body whole; // the record of a replicated run: restored whole, then this part taken from it
   build_body(*spec_, dimension_, whole);
   whole.unpack_state(record);
+  take_whole(whole);
+}
+
+// This rank's part of a whole body restored from a record on every rank.
+void BodyDriver::take_whole(const Body& whole)
+{
   if (split_node_count(whole) == 0 && whole.eroded().elements == 0 && whole.cut_nodes().empty())
     return copy_whole_into_part(whole, body_, part_, host_.rank == 0);
   // A broken body: every rank partitions it alike (METIS, fixed seed) and takes its part.
@@ -1364,6 +1367,53 @@ void BodyDriver::read_body_record(const double* record)
                                      host_.rank));
   broken_ = true;
   count_whole(whole);
+}
+
+// The parts' records. At the rank count that wrote them each rank takes its part of the stored
+// partition back as it was (the continued run is the uninterrupted one, bit for bit); at
+// another count, or replicated, they are merged into the whole body and taken as a whole record.
+void BodyDriver::take_part_records(const double* record)
+{
+  const PartRecords r = read_part_records(record);
+  const int mesh_elems = distributed_ ? mesh_elems_ : body_.mesh().num_elems();
+  const auto merged = [&](Body& whole) {
+    restore_gathered(merge_part_wholes(gathered_wholes(r), r.global_nodes, r.global_elems,
+                                       mesh_elems, body_.bulk_viscosity().on),
+                     whole);
+  };
+  if (!distributed_) return merged(body_);
+  Body whole;
+  if (r.nparts != host_.nprocs) {
+    build_body(*spec_, dimension_, whole);
+    merged(whole);
+    return take_whole(whole);
+  }
+  // Rank 0 alone restores the whole body and sends each rank its part, as after a change.
+  std::vector<double> surface;
+  PartTopology topo;
+  if (host_.rank == 0) {
+    try {
+      build_body(*spec_, dimension_, whole);
+      merged(whole);
+      surface = pack_surface(global_surface(whole.mesh(), r.elem_part));
+      topo = whole_topology(whole);
+    } catch (const std::exception& e) {
+      fail_one(prefix() + e.what() + " (mesh '" + spec_->mesh_file + "')");
+    }
+  }
+  const auto make = [&](int k) {
+    return part_message_with_state(whole, topo, r.elem_part, surface, k);
+  };
+  adopt_part(host_.scatter(make));
+  try {
+    restore_own_part(r, body_, part_, topo_);
+  } catch (const std::exception& e) { // this rank's block alone: stop from here
+    fail_one(prefix() + e.what() + " (mesh '" + spec_->mesh_file + "')");
+  }
+  broken_ = r.driver[0] != 0.0;
+  whole_split_nodes_ = static_cast<int>(r.driver[1]);
+  whole_fragments_ = static_cast<int>(r.driver[2]);
+  last_fragments_ = static_cast<int>(r.driver[3]);
 }
 
 // The head (after marker and length): placement, then sections. The stored state keeps the

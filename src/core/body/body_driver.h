@@ -257,6 +257,8 @@ private:
   std::vector<double> record_head() const;
   std::vector<double> distributed_body_record() const;
   void read_body_record(const double* record);
+  void take_whole(const Body& whole);
+  void take_part_records(const double* record);
 
   const BodySpec* spec_ = nullptr;
   std::string id_;
@@ -269,8 +271,9 @@ private:
   std::function<void(double*, int)> shared_sum_;
   int global_nodes_ = 0, global_elems_ = 0;
   // A distributed body that breaks: the elements of the mesh as read, the part's topology in
-  // global numbers, whether a change came (its restart record is then the whole body's), and,
-  // on rank 0, the whole body's split nodes and fragments since the last change (energy file).
+  // global numbers, whether a change came (a topology change or an erosion; kept with the restart
+  // record, as the counts are), and, on rank 0, the whole body's split nodes and fragments since
+  // the last change (energy file).
   int mesh_elems_ = 0;
   PartTopology topo_;
   bool broken_ = false;

@@ -514,4 +514,179 @@ void unpack_part_message_state(const std::vector<double>& message, std::size_t a
   body.set_outputs(o);
 }
 
+/* ----------------------------------------------------------------------
+   restart records of a distributed body: one block per part
+------------------------------------------------------------------------- */
+
+namespace
+{
+
+constexpr int kOwnHead = 4; // topology set, cut, nodes, elements
+constexpr int kOwnNode = 5; // global, parent, cut ends, split
+constexpr int kOwnElem = 4; // global, parent, root, fragment
+
+// The part's own state beside its pack_part_whole: every local node's topology, every element's,
+// then Body::pack_node of each node it does not own (a shared node as this part holds it; the
+// nodes it owns are in pack_part_whole). Topology fields are empty before the first change:
+// zeros then, and set = 0.
+std::vector<double> pack_own_part(const Body& body, const MeshPart& part, const PartTopology& topo)
+{
+  const int nn = part.num_nodes(), ne = body.mesh().num_elems();
+  const bool set = !topo.elem_fragment.empty();
+  std::vector<double> buf = {set ? 1.0 : 0.0, topo.cut ? 1.0 : 0.0, double(nn), double(ne)};
+  for (int n = 0; n < nn; ++n)
+    buf.insert(buf.end(),
+               {double(part.global_node[n]), double(topo.node_parent[n]), double(topo.cut_u[n]),
+                double(topo.cut_w[n]), set ? double(topo.node_split[n]) : 0.0});
+  for (int e = 0; e < ne; ++e)
+    buf.insert(buf.end(),
+               {double(part.global_elem[e]), double(topo.elem_parent[e]),
+                set ? double(topo.elem_root[e]) : 0.0, set ? double(topo.elem_fragment[e]) : 0.0});
+  for (int n = 0; n < nn; ++n) {
+    if (body.counted(n)) continue;
+    buf.resize(buf.size() + Body::kNodeRecordSize);
+    body.pack_node(n, buf.data() + buf.size() - Body::kNodeRecordSize);
+  }
+  return buf;
+}
+
+// The first owned node's entry (global, pack_node, parent, cut ends) of a pack_part_whole.
+const double* whole_nodes(const double* w)
+{
+  const double* p = w + 3 + kAccounts;               // part, owned, elements, accounts
+  p += kOutputs + 1 + static_cast<int>(p[kOutputs]); // outputs and reactions
+  return p + 2 + static_cast<int>(p[1]);             // damaged points, failed elements
+}
+
+} // namespace
+
+std::vector<double> pack_part_record(const Body& body, const MeshPart& part,
+                                     const PartTopology& topo)
+{
+  const std::vector<double> whole = pack_part_whole(body, part, topo);
+  const std::vector<double> own = pack_own_part(body, part, topo);
+  std::vector<double> buf = {double(part.part), double(whole.size())};
+  buf.insert(buf.end(), whole.begin(), whole.end());
+  buf.push_back(static_cast<double>(own.size()));
+  buf.insert(buf.end(), own.begin(), own.end());
+  return buf;
+}
+
+std::vector<double> join_part_records(const std::vector<double>& gathered, int nparts,
+                                      int global_nodes, int global_elems,
+                                      const double (&driver)[kDriverValues])
+{
+  std::vector<double> rec = {kPartRecordsVersion, double(nparts), double(global_nodes),
+                             double(global_elems)};
+  rec.insert(rec.end(), driver, driver + kDriverValues);
+  const size_t at = rec.size();
+  rec.resize(at + global_elems, -1.0);
+  int blocks = 0;
+  for (size_t k = 0; k < gathered.size(); ++blocks) {
+    const int part = static_cast<int>(gathered[k]);
+    const size_t own = k + 2 + static_cast<size_t>(gathered[k + 1]);
+    if (part < 0 || part >= nparts || own >= gathered.size()) mismatch("part block out of range");
+    const double* p = &gathered[own + 1];
+    const int nn = static_cast<int>(p[2]), ne = static_cast<int>(p[3]);
+    const double* elems = p + kOwnHead + kOwnNode * static_cast<size_t>(nn);
+    for (int e = 0; e < ne; ++e) {
+      const int g = static_cast<int>(elems[kOwnElem * e]);
+      if (g < 0 || g >= global_elems) mismatch("element index out of range");
+      rec[at + g] = part;
+    }
+    k = own + 1 + static_cast<size_t>(gathered[own]);
+  }
+  for (int g = 0; g < global_elems; ++g)
+    if (rec[at + g] < 0) mismatch("without element " + std::to_string(g));
+  if (blocks != nparts)
+    mismatch("of " + std::to_string(blocks) + " parts for " + std::to_string(nparts) + " ranks");
+  rec.insert(rec.end(), gathered.begin(), gathered.end());
+  return rec;
+}
+
+PartRecords read_part_records(const double* record)
+{
+  PartRecords r;
+  r.nparts = static_cast<int>(record[1]);
+  r.global_nodes = static_cast<int>(record[2]);
+  r.global_elems = static_cast<int>(record[3]);
+  if (r.nparts < 1 || r.global_nodes < 0 || r.global_elems < 0) mismatch("with a corrupt head");
+  std::copy(record + 4, record + 4 + kDriverValues, r.driver);
+  const double* p = record + 4 + kDriverValues;
+  r.elem_part.assign(p, p + r.global_elems);
+  p += r.global_elems;
+  r.whole.assign(r.nparts, nullptr);
+  r.own.assign(r.nparts, nullptr);
+  r.whole_size.assign(r.nparts, 0);
+  r.own_size.assign(r.nparts, 0);
+  for (int b = 0; b < r.nparts; ++b) {
+    const int part = static_cast<int>(p[0]);
+    if (part < 0 || part >= r.nparts || r.whole[part]) mismatch("with a corrupt part block");
+    r.whole_size[part] = static_cast<size_t>(p[1]);
+    r.whole[part] = p + 2;
+    p += 2 + r.whole_size[part];
+    r.own_size[part] = static_cast<size_t>(p[0]);
+    r.own[part] = p + 1;
+    p += 1 + r.own_size[part];
+  }
+  return r;
+}
+
+std::vector<double> gathered_wholes(const PartRecords& r)
+{
+  std::vector<double> all;
+  for (int k = 0; k < r.nparts; ++k)
+    all.insert(all.end(), r.whole[k], r.whole[k] + r.whole_size[k]);
+  return all;
+}
+
+void restore_own_part(const PartRecords& r, Body& body, const MeshPart& part, PartTopology& topo)
+{
+  const double* p = r.own[part.part];
+  const bool set = p[0] != 0.0;
+  const int nn = part.num_nodes(), ne = body.mesh().num_elems();
+  if (static_cast<int>(p[2]) != nn || static_cast<int>(p[3]) != ne)
+    mismatch("whose part " + std::to_string(part.part) + " is not this rank's");
+  topo.reset(nn, ne);
+  topo.cut = p[1] != 0.0;
+  if (set) {
+    topo.node_split.resize(nn);
+    topo.elem_root.resize(ne);
+    topo.elem_fragment.resize(ne);
+  }
+  p += kOwnHead;
+  for (int n = 0; n < nn; ++n, p += kOwnNode) {
+    if (static_cast<int>(p[0]) != part.global_node[n]) mismatch("with another part's nodes");
+    topo.node_parent[n] = static_cast<int>(p[1]);
+    topo.cut_u[n] = static_cast<int>(p[2]);
+    topo.cut_w[n] = static_cast<int>(p[3]);
+    if (set) topo.node_split[n] = static_cast<int>(p[4]);
+  }
+  for (int e = 0; e < ne; ++e, p += kOwnElem) {
+    if (static_cast<int>(p[0]) != part.global_elem[e]) mismatch("with another part's elements");
+    topo.elem_parent[e] = static_cast<int>(p[1]);
+    if (set) {
+      topo.elem_root[e] = static_cast<int>(p[2]);
+      topo.elem_fragment[e] = static_cast<int>(p[3]);
+    }
+  }
+  const double* owned = whole_nodes(r.whole[part.part]);
+  for (int n = 0; n < nn; ++n) { // owned nodes from pack_part_whole, the others from here
+    if (body.counted(n)) {
+      if (static_cast<int>(owned[0]) != part.global_node[n]) mismatch("with another part's nodes");
+      body.unpack_node(n, owned + 1);
+      owned += 1 + Body::kNodeRecordSize + 3;
+    } else {
+      body.unpack_node(n, p);
+      p += Body::kNodeRecordSize;
+    }
+  }
+  // The part's accounts and output figures (pack_part_whole: part, owned, elements, accounts).
+  const double* w = r.whole[part.part];
+  body.set_accounts(get_accounts(w + 3));
+  Body::Outputs o;
+  add_outputs(w + 3 + kAccounts, o);
+  body.set_outputs(o);
+}
+
 } // namespace fracdem

@@ -1,5 +1,5 @@
-// Distributed bodies: restart records and the gather / scatter of a breaking body, each part by
-// global index, merged into one record of the whole body that any rank count reads.
+// Distributed bodies: restart records (one per part; older files: the parts merged into one
+// record of the whole body) and the gather / scatter of a breaking body, each part by global index.
 #pragma once
 
 #include <vector>
@@ -10,8 +10,12 @@
 namespace fracdem
 {
 
+// ---- the earlier format (files written before kPartRecordsVersion): the parts merged into one
+// record of the whole body's nodes and elements. Still read at any rank count; the writer is
+// kept so that the tests can make such records. ----
+
 // First value of the body section of a parts record (Body::pack_state records start with their
-// version, 1..4).
+// version, 1..5).
 constexpr double kPartsRecordVersion = 100.0;
 
 // What one part contributes (part: null for a whole body): its clock and work accounts, each
@@ -91,5 +95,44 @@ std::vector<double> part_message_with_state(const Body& whole, const PartTopolog
 // built from the message, and the part's topology.
 void unpack_part_message_state(const std::vector<double>& message, std::size_t at, Body& body,
                                const MeshPart& part, PartTopology& topo);
+
+// ---- restart records of a distributed body: one record per part (issue #13 item 5) ----
+
+// First value of such a record. Layout: version, the rank count P, the whole body's node and
+// element counts, kDriverValues of the driver (its own figures, written by rank 0), the element
+// partition (per global element its part), then each part's block in part order. A block:
+// part, the length and values of pack_part_whole (what a merge at another count reads: the nodes
+// it owns, its elements), the length and values of the rest of the part's own state (each local
+// node's and element's topology in global numbers, Body::pack_node of the shared nodes it does
+// not own, as it holds them), so that the same part at the same count comes back as it was.
+constexpr double kPartRecordsVersion = 101.0;
+constexpr int kDriverValues = 4;
+
+// One part's block (host: gathered on rank 0 in part order).
+std::vector<double> pack_part_record(const Body& body, const MeshPart& part,
+                                     const PartTopology& topo);
+// Rank 0: the record from the gathered blocks of all nparts parts (concatenated; any order).
+// Throws std::runtime_error when an element is in no block or a block is missing.
+std::vector<double> join_part_records(const std::vector<double>& gathered, int nparts,
+                                      int global_nodes, int global_elems,
+                                      const double (&driver)[kDriverValues]);
+
+// A record of join_part_records, read in place (pointers into it).
+struct PartRecords {
+  int nparts = 0, global_nodes = 0, global_elems = 0;
+  double driver[kDriverValues] = {0, 0, 0, 0};
+  std::vector<int> elem_part;
+  std::vector<const double*> whole, own; // per part: pack_part_whole, its own state
+  std::vector<std::size_t> whole_size, own_size;
+};
+// Throws std::runtime_error on a record that does not hold nparts blocks.
+PartRecords read_part_records(const double* record);
+// Every part's pack_part_whole, concatenated: what merge_part_wholes reads.
+std::vector<double> gathered_wholes(const PartRecords& r);
+// After the part was taken from the merged whole body with the stored partition (part_message_
+// with_state, unpack_part_message_state): its own nodes, topology, accounts and outputs as the
+// part held them (the whole body gives a shared node its owner's values and one part all the
+// accounts). Throws std::runtime_error when the part's nodes are not the block's.
+void restore_own_part(const PartRecords& r, Body& body, const MeshPart& part, PartTopology& topo);
 
 } // namespace fracdem
