@@ -28,7 +28,13 @@ distributed at np 2, 3 and 4, and a restart written by np 3 after 3 batches cont
 * the same erosion log lines, energy file and thermo within 1e-10 of each column's scale (the
   thermo with the eroded mass f_body[24] and the body's mass f_body[28]);
 * mass was removed (eroded_mass > 0), and the body's mass plus the eroded mass is the initial
-  mass at every thermo row to round-off (1e-13 relative) at every rank count.
+  mass at every thermo row to round-off (1e-13 relative) at every rank count;
+* `fix fem/vtk` at np 3 (issue #13 item 5): a .pvtu of 3 pieces per frame in the .pvd, the
+  pieces holding every element at step 0 and, at the last step, the elements of np 1's frame
+  (the eroded ones left out);
+* with the PMPI counter (as above, before the first erosion): the same collectives as with
+  `keep`, and the shared-node sums send exactly 16 bytes more per (shared node, neighbour) pair
+  and step (5 doubles in the force sum instead of 3).
 """
 import os
 import re
@@ -82,9 +88,12 @@ MASS_THERMO = ("thermo_style    custom step f_body[7] v_tot f_body[24] f_body[28
 
 
 def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, resume=None,
-        thermo=THERMO):
+        thermo=THERMO, vtk=False):
     """parallel: the keyword's value and what follows it (e.g. 'distributed substeps 2'); write:
-    a restart file at the end; resume: the directory of a run that wrote one (continued)."""
+    a restart file at the end; resume: the directory of a run that wrote one (continued); vtk:
+    fem/vtk frames at the first and the last step."""
+    if vtk:
+        thermo += f"fix vtk all fem/vtk {steps} frame body body\n"
     wd = tempfile.mkdtemp(prefix=f"distributed_erosion_{np_}_")
     h.copy_inputs(["in.fast_impact"], wd)
     h.make_box_mesh(os.path.join(wd, "block.msh"), (10, 10, 5), (0.1, 0.1, 0.05))
@@ -249,15 +258,45 @@ def check_mass(label, d, m0):
             f"{m0:.6g} kg within {worst:.1e} relative at all {len(rows)} thermo rows")
 
 
-ref_r = run(1, "replicated", body=REMOVE, thermo=MASS_THERMO)
+def frame_cells(d, step):
+    """Cells of the fem/vtk frame of `step` (the pieces' sum for a .pvtu) and whether the .pvd
+    lists it."""
+    name = f"frame_{step:010d}"
+    stem = os.path.join(d["wd"], name)
+    pvd = open(os.path.join(d["wd"], "frame.pvd")).read()
+    if os.path.isfile(stem + ".vtu"):
+        paths, listed = [stem + ".vtu"], name + ".vtu" in pvd
+    else:
+        pieces = re.findall(r'Piece Source="([^"]+)"', open(stem + ".pvtu").read())
+        paths = [os.path.join(d["wd"], p) for p in pieces]
+        listed = name + ".pvtu" in pvd
+    cells = 0
+    for path in paths:
+        head = open(path, "rb").read(4000).decode("latin-1")
+        cells += int(re.search(r'NumberOfCells="(\d+)"', head).group(1))
+    return cells, len(paths), listed
+
+
+ref_r = run(1, "replicated", body=REMOVE, thermo=MASS_THERMO, vtk=True)
 m0 = ref_r["thermo"][1][0][ref_r["thermo"][0].index("body[28]")]
 h.check(abs(m0 - 7800 * 0.1 * 0.1 * 0.05) < 1e-12 * m0 and ref_r["thermo"][1][0][0] == 0,
         f"remove, np 1: initial mass {m0:.12g} kg = density x volume (3.9 kg)")
 check_mass("remove, np 1 replicated", ref_r, m0)
 for np_ in (2, 3, 4):
-    d = run(np_, "distributed", body=REMOVE, thermo=MASS_THERMO)
+    d = run(np_, "distributed", body=REMOVE, thermo=MASS_THERMO, vtk=np_ == 3)
     compare(f"remove, np {np_} distributed", ref_r, d)
     check_mass(f"remove, np {np_} distributed", d, m0)
+    if np_ != 3:
+        continue
+    # fem/vtk of the eroded distributed body: one piece per rank per frame, the .pvtu in the .pvd,
+    # the pieces together holding the replicated frame's active elements.
+    lost = int(ref_r["energy"]["eroded_elements"][-1])
+    first_cells, last_cells = frame_cells(d, 0), frame_cells(d, STEPS)
+    ref_cells = frame_cells(ref_r, STEPS)[0]
+    h.check(first_cells == (3000, 3, True) and last_cells == (3000 - lost, 3, True) and
+            ref_cells == 3000 - lost,
+            f"remove, np 3: fem/vtk frames of 3 pieces in the .pvd, {first_cells[0]} cells at step "
+            f"0 and {last_cells[0]} at step {STEPS} (np 1's frame: {ref_cells}; {lost} eroded)")
 first = run(3, "distributed", steps=RESTART_AT, body=REMOVE, thermo=MASS_THERMO, write=True)
 d = run(2, "distributed", steps=rest, body=REMOVE, thermo=MASS_THERMO, resume=first["wd"])
 compare(f"remove, restart at step {RESTART_AT} of np 3, continued at np 2 distributed", ref_r, d,
