@@ -22,8 +22,21 @@ the second) at np 3:
 * cost, with the PMPI counter at np 3 (difference of a 200- and a 300-step run, before the first
   erosion): the body's code takes exactly one integer reduction per host step for the erosion
   (BodyDriver::distributed_erosion), and no other collective but the stable step's re-estimate
-  every 100 steps, the boxes' all-gather per host re-neighbouring and the energy file's sums.
-`erosion_mass remove` is refused with `parallel distributed` (by name).
+  every 100 steps, the boxes' all-gather per host re-neighbouring and the energy file's sums;
+  the same with `erosion_mass remove`.
+`erosion_mass remove` (each eroded element's lumped mass leaves with it; a node that no part
+holds an element of anymore keeps neither mass nor velocity): replicated at np 1 against
+distributed at np 2, 3 and 4, and a restart written by np 3 after 3 batches continued at np 2:
+* the same erosion log lines, energy file and thermo within 1e-10 of each column's scale (the
+  thermo with the eroded mass f_body[24] and the body's mass f_body[28]);
+* mass was removed (eroded_mass > 0), and the body's mass plus the eroded mass is the initial
+  mass at every thermo row to round-off (1e-13 relative) at every rank count;
+* `fix fem/vtk` at np 3 (issue #13 item 5): a .pvtu of 3 pieces per frame in the .pvd, the
+  pieces holding every element at step 0 and, at the last step, the elements of np 1's frame
+  (the eroded ones left out);
+* with the PMPI counter (as above, before the first erosion): the same collectives as with
+  `keep`, and the shared-node sums send exactly 16 bytes more per (shared node, neighbour) pair
+  and step (5 doubles in the force sum instead of 3).
 """
 import os
 import re
@@ -69,15 +82,30 @@ run             ${steps}
 """
 
 
+THERMO = "thermo_style    custom step f_body[7] v_tot\nthermo_modify   format float %.10g\n"
+# erosion_mass remove: also the eroded mass (21 + 3G) and the body's mass (25 + 3G; G = 1 group),
+# with every digit.
+MASS_THERMO = ("thermo_style    custom step f_body[7] v_tot f_body[24] f_body[28]\n"
+               "thermo_modify   format float %.17g\n")
+
+
 def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, resume=None,
-        then=0):
+        then=0, thermo=THERMO, vtk=False):
     """parallel: the keyword's value and what follows it (e.g. 'distributed substeps 2'); write:
     a restart file at the end (then: and `then` steps more after it); resume: the directory of a
-    run that wrote one (continued)."""
+    run that wrote one (continued); vtk: fem/vtk frames at the first and the last step."""
+    if vtk:
+        thermo += f"fix vtk all fem/vtk {steps} frame body body\n"
     wd = tempfile.mkdtemp(prefix=f"distributed_erosion_{np_}_")
     h.copy_inputs(["in.fast_impact"], wd)
     h.make_box_mesh(os.path.join(wd, "block.msh"), (10, 10, 5), (0.1, 0.1, 0.05))
     script = "in.fast_impact"
+    path = os.path.join(wd, script)
+    with open(path) as f:
+        text = f.read()
+    assert THERMO in text and THERMO in CONTINUE
+    with open(path, "w") as f:
+        f.write(text.replace(THERMO, thermo))
     if write:
         with open(os.path.join(wd, script), "a") as f:
             f.write("write_restart   erosion.restart\n")
@@ -87,7 +115,7 @@ def run(np_, parallel, steps=STEPS, body=BODY, expect_fail=False, write=False, r
         shutil.copy(os.path.join(resume, "erosion.restart"), wd)
         script = "in.continue"
         with open(os.path.join(wd, script), "w") as f:
-            f.write(CONTINUE)
+            f.write(CONTINUE.replace(THERMO, thermo))
     out = h.run(args.exe, script, np_=np_, workdir=wd, expect_fail=expect_fail,
                 variables=dict(v=1500.0, dt=1e-8, x0=0.05, y0=0.05, steps=steps, every=50,
                                bodykw=f"{body} parallel {parallel}"))
@@ -181,9 +209,9 @@ h.copy_inputs(["in.fast_impact"], wd)
 h.make_box_mesh(os.path.join(wd, "block.msh"), (10, 10, 5), (0.1, 0.1, 0.05))
 
 
-def counted(steps):
+def counted(steps, body):
     variables = dict(v=1500.0, dt=1e-8, x0=0.05, y0=0.05, steps=steps, every=steps,
-                     bodykw=f"{BODY} parallel distributed")
+                     bodykw=f"{body} parallel distributed")
     return mpicount.run(args.exe, "in.fast_impact", 3, wd, LIB, f"c{steps}", variables)
 
 
@@ -191,31 +219,104 @@ def builds(text):
     return int(re.search(r"Neighbor list builds\s*=\s*(\d+)", text).group(1))
 
 
-short_text, short = counted(200)
-long_text, long_ = counted(300)
-regroupings = builds(long_text) - builds(short_text)
-for d in mpicount.difference(long_, short):
-    erosion, restep, gathers, other = 0, 0, 0, []
-    for (module, caller, func, cat), (count, nbytes) in d["sites"].items():
-        if cat != "coll" or not count or not re.search(r"FixFemBody|BodyDriver|all_gather",
-                                                        caller):
-            continue
-        if "energy_row" in caller:
-            continue  # output (energy_file every 10 steps): sums over the parts
-        if "distributed_erosion" in caller and func == "MPI_Allreduce":
-            erosion += count
-        elif "check_squeezed" in caller and func == "MPI_Allreduce":
-            restep += count
-        elif "all_gather" in caller:
-            gathers += count
-        else:
-            other.append(f"{count} x {func} in {caller}")
-    h.check(erosion == 100 and restep == 1 and gathers == regroupings and not other,
-            f"rank {d['rank']}: in 100 steps without erosion {erosion} erosion reductions (one per "
-            f"host step), {restep} stable-step re-estimates, {gathers} box all-gathers "
-            f"({regroupings} host re-neighbourings), other collectives: {'; '.join(other) or 'none'}")
+def check_counts(label, body):
+    short_text, short = counted(200, body)
+    long_text, long_ = counted(300, body)
+    regroupings = builds(long_text) - builds(short_text)
+    pairs = int(re.search(r"(\d+) \(shared node, neighbour\) pairs in all", long_text).group(1))
+    sent = 0  # bytes of the shared-node sums (NodeExchange) of all ranks in the 100 steps
+    for d in mpicount.difference(long_, short):
+        erosion, restep, gathers, other = 0, 0, 0, []
+        for (module, caller, func, cat), (count, nbytes) in d["sites"].items():
+            if cat == "send" and "NodeExchange" in caller:
+                sent += nbytes
+            if cat != "coll" or not count or not re.search(r"FixFemBody|BodyDriver|all_gather",
+                                                            caller):
+                continue
+            if "energy_row" in caller:
+                continue  # output (energy_file every 10 steps): sums over the parts
+            if "distributed_erosion" in caller and func == "MPI_Allreduce":
+                erosion += count
+            elif "check_squeezed" in caller and func == "MPI_Allreduce":
+                restep += count
+            elif "all_gather" in caller:
+                gathers += count
+            else:
+                other.append(f"{count} x {func} in {caller}")
+        h.check(erosion == 100 and restep == 1 and gathers == regroupings and not other,
+                f"{label}rank {d['rank']}: in 100 steps without erosion {erosion} erosion "
+                f"reductions (one per host step), {restep} stable-step re-estimates, {gathers} box "
+                f"all-gathers ({regroupings} host re-neighbourings), other collectives: "
+                f"{'; '.join(other) or 'none'}")
+    return sent, pairs
 
-out = run(2, "distributed", steps=1, body=BODY + " erosion_mass remove", expect_fail=True)
-h.check("keyword 'parallel distributed' does not work with 'erosion_mass remove'" in out,
-        "erosion_mass remove with parallel distributed is refused by name")
+
+keep_sent, pairs = check_counts("", BODY)
+# erosion_mass remove: the shared nodes' mass travels with the force sum, no collective is added;
+# the force sum carries 5 doubles per (shared node, neighbour) pair instead of 3 (the contact
+# forces' sum, the same in both runs before the first erosion, stays at 3).
+remove_sent, _ = check_counts("erosion_mass remove, ", BODY + " erosion_mass remove")
+h.check(remove_sent - keep_sent == 16 * pairs * 100,
+        f"erosion_mass remove: the shared-node sums send {(remove_sent - keep_sent) / 100:.0f} "
+        f"bytes per step more than with keep = 16 x {pairs} (shared node, neighbour) pairs")
+
+# erosion_mass remove: the mass of shared nodes leaves on every sharer (with the force sum).
+REMOVE = BODY + " erosion_mass remove"
+
+
+def check_mass(label, d, m0):
+    """The body's mass plus the eroded mass against the initial mass m0, at every thermo row."""
+    head, rows = d["thermo"]
+    im, ie = head.index("body[28]"), head.index("body[24]")
+    worst = max(abs(r[im] + r[ie] - m0) for r in rows) / m0
+    removed = d["energy"]["eroded_mass"][-1]
+    h.check(removed > 0 and rows[-1][ie] > 0 and worst < 1e-13,
+            f"{label}: {removed:.6g} kg removed (eroded_mass), body mass + eroded mass = initial "
+            f"{m0:.6g} kg within {worst:.1e} relative at all {len(rows)} thermo rows")
+
+
+def frame_cells(d, step):
+    """Cells of the fem/vtk frame of `step` (the pieces' sum for a .pvtu) and whether the .pvd
+    lists it."""
+    name = f"frame_{step:010d}"
+    stem = os.path.join(d["wd"], name)
+    pvd = open(os.path.join(d["wd"], "frame.pvd")).read()
+    if os.path.isfile(stem + ".vtu"):
+        paths, listed = [stem + ".vtu"], name + ".vtu" in pvd
+    else:
+        pieces = re.findall(r'Piece Source="([^"]+)"', open(stem + ".pvtu").read())
+        paths = [os.path.join(d["wd"], p) for p in pieces]
+        listed = name + ".pvtu" in pvd
+    cells = 0
+    for path in paths:
+        head = open(path, "rb").read(4000).decode("latin-1")
+        cells += int(re.search(r'NumberOfCells="(\d+)"', head).group(1))
+    return cells, len(paths), listed
+
+
+ref_r = run(1, "replicated", body=REMOVE, thermo=MASS_THERMO, vtk=True)
+m0 = ref_r["thermo"][1][0][ref_r["thermo"][0].index("body[28]")]
+h.check(abs(m0 - 7800 * 0.1 * 0.1 * 0.05) < 1e-12 * m0 and ref_r["thermo"][1][0][0] == 0,
+        f"remove, np 1: initial mass {m0:.12g} kg = density x volume (3.9 kg)")
+check_mass("remove, np 1 replicated", ref_r, m0)
+for np_ in (2, 3, 4):
+    d = run(np_, "distributed", body=REMOVE, thermo=MASS_THERMO, vtk=np_ == 3)
+    compare(f"remove, np {np_} distributed", ref_r, d)
+    check_mass(f"remove, np {np_} distributed", d, m0)
+    if np_ != 3:
+        continue
+    # fem/vtk of the eroded distributed body: one piece per rank per frame, the .pvtu in the .pvd,
+    # the pieces together holding the replicated frame's active elements.
+    lost = int(ref_r["energy"]["eroded_elements"][-1])
+    first_cells, last_cells = frame_cells(d, 0), frame_cells(d, STEPS)
+    ref_cells = frame_cells(ref_r, STEPS)[0]
+    h.check(first_cells == (3000, 3, True) and last_cells == (3000 - lost, 3, True) and
+            ref_cells == 3000 - lost,
+            f"remove, np 3: fem/vtk frames of 3 pieces in the .pvd, {first_cells[0]} cells at step "
+            f"0 and {last_cells[0]} at step {STEPS} (np 1's frame: {ref_cells}; {lost} eroded)")
+first = run(3, "distributed", steps=RESTART_AT, body=REMOVE, thermo=MASS_THERMO, write=True)
+d = run(2, "distributed", steps=rest, body=REMOVE, thermo=MASS_THERMO, resume=first["wd"])
+compare(f"remove, restart at step {RESTART_AT} of np 3, continued at np 2 distributed", ref_r, d,
+        after=RESTART_AT)
+check_mass("remove, continued at np 2", d, m0)
 

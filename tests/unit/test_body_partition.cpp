@@ -261,6 +261,134 @@ TEST_P(BodyPartition, PartsInLockstepFollowTheWholeBody)
   EXPECT_LT(worst, 1e-10 * 1.2);
 }
 
+// erosion_mass remove on parts (the exchange done in memory, as sum_forces_and_masses does with
+// the force sum): every part erodes its own elements of each batch, the mass taken off shared
+// nodes and the active elements around them are summed over the sharers, and the parts then hold
+// the whole body's masses and velocities (a node of the first batch, the star of a shared node,
+// left without elements on every part: neither mass nor velocity), every sharer the same bits,
+// and the parts' accounts (mass, momentum, kinetic energy) sum to the whole body's.
+TEST_P(BodyPartition, PartsErodingWithRemovedMassFollowTheWholeBody)
+{
+  const Mesh mesh = test_mesh(GetParam());
+  const Material steel = fracdem_test::steel();
+  auto set_up = [&](Body& b, const Mesh& m) {
+    b.build(m, steel, false);
+    for (int n = 0; n < m.num_nodes(); ++n) {
+      const double* X = &m.X[3 * n];
+      const double v[3] = {2.0 * X[1], 3.0 * X[0] * X[0], -X[0] * X[1]};
+      b.set_velocity({n}, v);
+    }
+  };
+  Body whole;
+  set_up(whole, mesh);
+  const double m0 = whole.total_mass();
+  const int nparts = 3;
+  const std::vector<MeshPart> parts = all_parts(mesh, nparts);
+  std::vector<InterfaceSum> sums(parts.begin(), parts.end());
+  std::vector<Body> bodies(nparts);
+  auto exchange = [&](int width, auto field_of, auto after) {
+    std::vector<std::vector<double>> fields(nparts);
+    std::vector<const double*> ptrs;
+    for (int p = 0; p < nparts; ++p) {
+      fields[p] = field_of(p);
+      ptrs.push_back(fields[p].data());
+    }
+    for (int p = 0; p < nparts; ++p) {
+      std::vector<double> f = fields[p];
+      sums[p].combine(f.data(), width, messages_to(parts, sums, ptrs, width, p));
+      after(p, f);
+    }
+  };
+  for (int p = 0; p < nparts; ++p) {
+    set_up(bodies[p], parts[p].mesh);
+    std::vector<std::uint8_t> owned(parts[p].num_nodes()), shared(parts[p].num_nodes());
+    for (int n = 0; n < parts[p].num_nodes(); ++n) {
+      owned[n] = parts[p].owns(n);
+      shared[n] = parts[p].shared(n);
+    }
+    bodies[p].set_counted_nodes(owned);
+    bodies[p].set_shared_nodes(shared);
+  }
+  exchange(
+      1, [&](int p) { return bodies[p].masses(); },
+      [&](int p, const std::vector<double>& m) { bodies[p].set_masses(m); });
+  // Batch 1: every element around a node that three parts share (else two); batch 2: the
+  // elements of the lower third in x.
+  int centre = -1, most = 0;
+  for (int p = 0; p < nparts; ++p)
+    for (int n = 0; n < parts[p].num_nodes(); ++n) {
+      const int k = parts[p].sharer_start[n + 1] - parts[p].sharer_start[n];
+      if (k > most) most = k, centre = parts[p].global_node[n];
+    }
+  ASSERT_GE(most, 2);
+  std::vector<std::vector<int>> batches(2);
+  for (const int* e = whole.stars().begin(centre); e != whole.stars().end(centre); ++e)
+    batches[0].push_back(*e);
+  std::sort(batches[0].begin(), batches[0].end());
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    double cx = 0;
+    const int k = nodes_per_elem(mesh.etype[e]);
+    for (int a = 0; a < k; ++a)
+      cx += mesh.X[3 * mesh.conn[e][a]] / k;
+    if (cx < 0.2 * (GetParam() == ElemType::Tet4 ? 0.6 : 1.2) &&
+        std::find(batches[0].begin(), batches[0].end(), e) == batches[0].end())
+      batches[1].push_back(e);
+  }
+  for (const std::vector<int>& batch : batches) {
+    whole.erode(batch, true);
+    for (int p = 0; p < nparts; ++p) {
+      std::vector<int> mine;
+      for (int e = 0; e < parts[p].mesh.num_elems(); ++e)
+        if (std::binary_search(batch.begin(), batch.end(), parts[p].global_elem[e]))
+          mine.push_back(e);
+      bodies[p].erode(mine, true);
+    }
+    exchange(
+        2,
+        [&](int p) {
+          std::vector<double> f(2 * parts[p].num_nodes());
+          for (int n = 0; n < parts[p].num_nodes(); ++n)
+            f[2 * n] = bodies[p].shared_taken(n), f[2 * n + 1] = bodies[p].active_elements(n);
+          return f;
+        },
+        [&](int p, const std::vector<double>& f) {
+          bodies[p].settle_shared_masses(f.data(), 2, 0);
+        });
+  }
+  double mmax = 0;
+  for (double m : whole.masses())
+    mmax = std::max(mmax, m);
+  std::vector<double> seen(mesh.num_nodes(), -1.0);
+  int bare_shared = 0;
+  double parts_mass = 0, eroded_mass = 0, energy = 0, momentum[3] = {0, 0, 0};
+  for (int p = 0; p < nparts; ++p) {
+    for (int n = 0; n < parts[p].num_nodes(); ++n) {
+      const int g = parts[p].global_node[n];
+      const double m = bodies[p].masses()[n];
+      EXPECT_NEAR(m, whole.masses()[g], 1e-13 * mmax) << "node " << g << " part " << p;
+      EXPECT_EQ(m == 0, whole.masses()[g] == 0) << "node " << g << " part " << p;
+      for (int d = 0; d < 3; ++d)
+        EXPECT_EQ(bodies[p].velocities()[3 * n + d], whole.velocities()[3 * g + d]);
+      if (seen[g] >= 0) EXPECT_EQ(m, seen[g]) << "node " << g << " sharers differ";
+      seen[g] = m;
+      if (parts[p].shared(n) && parts[p].owns(n) && m == 0) ++bare_shared;
+    }
+    parts_mass += bodies[p].total_mass();
+    eroded_mass += bodies[p].eroded().mass;
+    energy += bodies[p].eroded().energy;
+    for (int d = 0; d < 3; ++d)
+      momentum[d] += bodies[p].eroded().momentum[d];
+  }
+  EXPECT_GE(bare_shared, 1); // the centre node, at least
+  EXPECT_GT(whole.eroded().mass, 0.0);
+  EXPECT_NEAR(eroded_mass, whole.eroded().mass, 1e-13 * m0);
+  EXPECT_NEAR(energy, whole.eroded().energy, 1e-13 * whole.eroded().energy);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_NEAR(momentum[d], whole.eroded().momentum[d], 1e-13 * m0 * 3.0);
+  EXPECT_NEAR(parts_mass + eroded_mass, m0, 1e-14 * m0);
+  EXPECT_NEAR(whole.total_mass() + whole.eroded().mass, m0, 1e-14 * m0);
+}
+
 // parallel distributed set-up: rank 0 packs each rank's part and the whole surface into one
 // message (part_message); what the rank unpacks is the part it would have cut itself, field for
 // field (element order and numbering, sets, neighbours, sharers), and the same surface.

@@ -723,13 +723,17 @@ TEST(BodySpec, ParallelDistributed)
             "'0'");
   EXPECT_EQ(check_error(body + "parallel distributed contact_bodies yes"),
             "keyword 'parallel distributed' does not work with 'contact_bodies yes'" + tail);
-  // A distributed body erodes, its nodes keeping the mass.
+  // A distributed body erodes, its nodes keeping the mass or not.
   EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
                                "erosion plastic_strain 2"),
             "");
   EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
                                "erosion plastic_strain 2 erosion_mass remove"),
-            "keyword 'parallel distributed' does not work with 'erosion_mass remove'" + tail);
+            "");
+  EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
+                               "fracture_energy 100 fracture nodal contact_bodies no "
+                               "erosion_mass remove"),
+            "");
 }
 
 // Without 'parallel' the body's size chooses (kDistributedMinElements), unless it uses what
@@ -754,6 +758,15 @@ TEST(BodySpec, ParallelChosenBySize)
   EXPECT_NE(parallel_choice(s, 1000000, distributed).find("uses 'fracture'"), std::string::npos);
   EXPECT_FALSE(distributed);
   s = parse(body + "material j2 yield 4e8 hardening 1e8 erosion plastic_strain 2");
+  check_body_spec(s, BodySpecHost{}, 4, 3);
+  EXPECT_NE(parallel_choice(s, 1000000, distributed)
+                .find("uses 'erosion', which a distributed body does only when asked: 'parallel "
+                      "distributed')"),
+            std::string::npos);
+  EXPECT_FALSE(distributed);
+  // erosion_mass remove is done distributed when asked, as erosion is.
+  s = parse(body + "material j2 yield 4e8 hardening 1e8 erosion plastic_strain 2 erosion_mass "
+                   "remove");
   check_body_spec(s, BodySpecHost{}, 4, 3);
   EXPECT_NE(parallel_choice(s, 1000000, distributed)
                 .find("uses 'erosion', which a distributed body does only when asked: 'parallel "

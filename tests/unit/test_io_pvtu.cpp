@@ -66,6 +66,57 @@ TEST_F(IoPvtu, PiecesOfAPartitionedBodyJoinIntoTheWholeBody)
     EXPECT_DOUBLE_EQ(sx->GetTuple1(n), grid->GetPoint(n)[0] + 1.0);
 }
 
+// Erosion of a distributed body can leave a part without active elements: its piece has the
+// part's nodes and no cell, and the frame still joins into the body's active elements (eroded
+// ones, of that part and of another, are left out) with their fields.
+TEST_F(IoPvtu, APieceWithEveryElementErodedJoinsIntoTheActiveElements)
+{
+  const Mesh mesh = make_box_tet_mesh(4, 3, 2, 0.4, 0.3, 0.2);
+  const std::vector<int> part = partition_elements(mesh, 3);
+  std::vector<std::string> pieces;
+  std::vector<int> active(mesh.num_elems(), 1);
+  const std::vector<VtkField> declared = {{"global_element", 1, nullptr, true},
+                                          {"velocity", 3, nullptr, false}};
+  for (int p = 0; p < 3; ++p) {
+    MeshPart mp = extract_part(mesh, part, p);
+    for (int e = 0; e < mp.mesh.num_elems(); ++e)
+      if (p == 1 || (p == 2 && e % 2 == 0)) { // part 1 eroded whole, part 2 in half
+        mp.mesh.active[e] = 0;
+        active[mp.global_elem[e]] = 0;
+      }
+    const std::vector<double> global_element(mp.global_elem.begin(), mp.global_elem.end());
+    const std::vector<double> velocity(3 * mp.num_nodes(), 1.5);
+    pieces.push_back((dir_ / ("piece_" + std::to_string(p) + ".vtu")).string());
+    write_vtu(pieces.back(), mp.mesh, nullptr,
+              {{"global_element", 1, global_element.data(), true},
+               {"velocity", 3, velocity.data(), false}});
+  }
+  const std::string index = (dir_ / "eroded.pvtu").string();
+  write_pvtu(index, pieces, declared);
+
+  auto reader = vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New();
+  reader->SetFileName(index.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  int want = 0;
+  for (int a : active)
+    want += a;
+  ASSERT_GT(want, 0);
+  ASSERT_LT(want, mesh.num_elems());
+  ASSERT_EQ(grid->GetNumberOfCells(), want);
+  vtkDataArray* ge = grid->GetCellData()->GetArray("global_element");
+  vtkDataArray* v = grid->GetPointData()->GetArray("velocity");
+  ASSERT_NE(ge, nullptr);
+  ASSERT_NE(v, nullptr);
+  std::vector<int> seen(mesh.num_elems(), 0);
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    ++seen[static_cast<int>(ge->GetTuple1(c))];
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    EXPECT_EQ(seen[e], active[e]) << "element " << e;
+  for (vtkIdType n = 0; n < grid->GetNumberOfPoints(); ++n)
+    EXPECT_EQ(v->GetTuple3(n)[2], 1.5);
+}
+
 TEST_F(IoPvtu, Errors)
 {
   EXPECT_THROW(write_pvtu((dir_ / "a.pvtu").string(), {}, {}), std::invalid_argument);

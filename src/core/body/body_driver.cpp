@@ -672,7 +672,10 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
   int first_inverted = -1;
   double energy = body_.add_internal_forces(&first_inverted);
   if (can_erode()) energy = erode_part(energy, first_inverted, last);
-  shared_sum_(body_.forces_data(), 3);
+  if (can_erode() && spec_->erosion.remove_mass)
+    sum_forces_and_masses();
+  else
+    shared_sum_(body_.forces_data(), 3);
   if (can_erode() && last) distributed_erosion(step, dt);
   if (particles) distributed_contact(*particles, step, dt);
   if (first_inverted >= 0)
@@ -1221,6 +1224,8 @@ double BodyDriver::vector_entry(int i)
     return body_.shield_work();
   case kVecSubsteps:
     return step_substeps_;
+  case kVecMass:
+    return body_.total_mass();
   }
   return 0.0;
 }
@@ -1266,6 +1271,9 @@ double BodyDriver::distributed_vector_entry(int i)
       break;
     case kVecErodedEnergy:
       value = eroded.energy;
+      break;
+    case kVecMass:
+      value = body_.total_mass();
       break;
     }
   }

@@ -70,6 +70,7 @@ enum BodyVectorTail {
   kVecErodedEnergy,
   kVecShieldWork,
   kVecSubsteps,
+  kVecMass,
   kVecTailSize
 };
 
@@ -231,6 +232,7 @@ private:
   // force evaluation; at the host step's last evaluation the parts agree (one integer reduction)
   // and, after an erosion, rank 0 logs it, the stable step follows and the surface is renewed.
   double erode_part(double energy, int& first_inverted, bool last);
+  void sum_forces_and_masses();
   void distributed_erosion(std::int64_t step, double dt);
   std::vector<double> pack_part_erosion() const;
   void renew_surface_after_erosion(const std::vector<int>& eroded);
@@ -291,6 +293,7 @@ private:
   };
   std::vector<PartErosion> part_erosion_;
   std::vector<double> fe_dt_stable_;
+  std::vector<double> force_mass_; // erosion_mass remove: per node forces, mass taken, elements
   int fe_count_ = 0;
   ErosionAccount erosion_mark_;
   bool whole_mesh_known_ = false;

@@ -38,11 +38,12 @@ ErosionAccount get_account(const std::vector<double>& in, std::size_t& at)
 } // namespace
 
 // This part's elements leave as in the replicated loop (forces_after_erosion, or a breaking
-// body's inverted elements one at a time as erode_inverted takes them, their nodes keeping their
-// mass): every criterion and det F are element-local, so the part decides for its elements what
-// the whole body would. The erosion waits, in global numbers, for the follow-up at the host
-// step's last evaluation (last); before it, with sub-cycling, the part's stable step after each
-// evaluation is kept (the replicated body takes it right after its erosion).
+// body's inverted elements one at a time as erode_inverted takes them): every criterion and det F
+// are element-local, so the part decides for its elements what the whole body would. With
+// erosion_mass remove the mass they take off shared nodes waits for sum_forces_and_masses. The
+// erosion waits, in global numbers, for the follow-up at the host step's last evaluation (last);
+// before it, with sub-cycling, the part's stable step after each evaluation is kept (the replicated
+// body takes it right after its erosion).
 double BodyDriver::erode_part(double energy, int& first_inverted, bool last)
 {
   PartErosion ev;
@@ -51,9 +52,8 @@ double BodyDriver::erode_part(double energy, int& first_inverted, bool last)
   if (spec_->erosion.on()) {
     energy = erosion_loop(energy, first_inverted, ev.counts, ev.batch);
   } else {
-    // erosion_mass remove would take mass off shared nodes on one sharer only: the run stops.
-    while (first_inverted >= 0 && !spec_->erosion.remove_mass) {
-      body_.erode({first_inverted}, false);
+    while (first_inverted >= 0) {
+      body_.erode({first_inverted}, spec_->erosion.remove_mass);
       ev.batch.push_back(first_inverted);
       ++ev.counts[static_cast<int>(ErosionCause::Inverted)];
       body_.clear_internal_forces();
@@ -74,6 +74,30 @@ double BodyDriver::erode_part(double energy, int& first_inverted, bool last)
     ++fe_count_;
   }
   return energy;
+}
+
+// erosion_mass remove: the shared-node force sum of every evaluation carries two more values per
+// node, the mass this part's erosions took off it and the part's active elements around it, so
+// that every sharer drops the mass all parts took and releases a node that no part holds an
+// element of anymore, as the whole body does in erode (no collective; 5 doubles per shared node
+// and neighbour instead of 3, also while nothing erodes: a part cannot know whether its
+// neighbours eroded without a message).
+void BodyDriver::sum_forces_and_masses()
+{
+  const int nn = body_.num_nodes();
+  force_mass_.resize(5 * static_cast<std::size_t>(nn));
+  double* f = body_.forces_data();
+  for (int n = 0; n < nn; ++n) {
+    double* to = &force_mass_[5 * static_cast<std::size_t>(n)];
+    to[0] = f[3 * n], to[1] = f[3 * n + 1], to[2] = f[3 * n + 2];
+    to[3] = body_.shared_taken(n);
+    to[4] = body_.active_elements(n);
+  }
+  shared_sum_(force_mass_.data(), 5);
+  for (int n = 0; n < nn; ++n)
+    for (int d = 0; d < 3; ++d)
+      f[3 * n + d] = force_mass_[5 * static_cast<std::size_t>(n) + d];
+  body_.settle_shared_masses(force_mass_.data(), 5, 3);
 }
 
 // The follow-up of the erosions of the evaluations since the last one, entered by every rank at

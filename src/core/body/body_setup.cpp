@@ -150,10 +150,13 @@ MeshPart build_body_part(const BodySpec& spec, const std::vector<double>& messag
     throw SpecError(std::string("keyword 'parallel distributed': ") + e.what(), true);
   }
   build_body_from_mesh(spec, part.mesh, body);
-  std::vector<std::uint8_t> owned(part.num_nodes());
-  for (int n = 0; n < part.num_nodes(); ++n)
+  std::vector<std::uint8_t> owned(part.num_nodes()), shared(part.num_nodes());
+  for (int n = 0; n < part.num_nodes(); ++n) {
     owned[n] = part.owns(n);
+    shared[n] = part.shared(n);
+  }
   body.set_counted_nodes(std::move(owned));
+  body.set_shared_nodes(std::move(shared));
   return part;
 }
 
@@ -176,9 +179,8 @@ std::string parallel_choice(const BodySpec& spec, long long elements, bool& dist
   const char* refused = distributed_default_refusal(spec);
   // What a distributed body does when asked: breaking (with 'contact_bodies no') and eroding.
   const bool breaks = spec.fracture_every > 0, erodes = spec.erosion.on();
-  const bool when_asked = refused && !spec.rigid && (breaks || erodes) &&
-                          !(erodes && spec.erosion.remove_mass) &&
-                          !(spec.contact_bodies > 0 && !breaks);
+  const bool when_asked =
+      refused && !spec.rigid && (breaks || erodes) && !(spec.contact_bodies > 0 && !breaks);
   if (when_asked)
     return std::string("parallel replicated (by default: the body uses ") + refused +
            ", which a distributed body does only when asked: 'parallel distributed'" +

@@ -626,11 +626,7 @@ void check_erosion(const BodySpec& s)
 
 const char* distributed_refusal(const BodySpec& s)
 {
-  // erosion_mass remove would take the mass off a shared node on one of its sharers only.
-  return s.rigid                                   ? "'rigid yes'"
-         : s.erosion.on() && s.erosion.remove_mass ? "'erosion_mass remove'"
-         : s.contact_bodies > 0                    ? "'contact_bodies yes'"
-                                                   : nullptr;
+  return s.rigid ? "'rigid yes'" : s.contact_bodies > 0 ? "'contact_bodies yes'" : nullptr;
 }
 
 const char* distributed_default_refusal(const BodySpec& s)

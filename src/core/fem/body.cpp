@@ -51,6 +51,8 @@ void Body::resize_nodes(int nn)
   mass_.resize(nn, 0.0);
   inv_mass_.resize(nn, 0.0);
   if (!counted_.empty()) counted_.resize(nn, 1);
+  if (!shared_.empty()) shared_.resize(nn, 0);
+  if (!taken_.empty()) taken_.resize(nn, 0.0);
 }
 
 void Body::derive_masses()
@@ -84,6 +86,14 @@ void Body::set_counted_nodes(std::vector<std::uint8_t> counted)
   if (!counted.empty() && static_cast<int>(counted.size()) != num_nodes())
     throw FeError(-1, "Body::set_counted_nodes: one flag per node expected");
   counted_ = std::move(counted);
+}
+
+void Body::set_shared_nodes(std::vector<std::uint8_t> shared)
+{
+  if (!shared.empty() && static_cast<int>(shared.size()) != num_nodes())
+    throw FeError(-1, "Body::set_shared_nodes: one flag per node expected");
+  shared_ = std::move(shared);
+  taken_.assign(shared_.empty() ? 0 : shared_.size(), 0.0);
 }
 
 void Body::set_element_range(int begin, int end)
@@ -506,6 +516,14 @@ double Body::momentum(int d) const
   return p;
 }
 
+double Body::total_mass() const
+{
+  double m = 0;
+  for (int n = 0; n < num_nodes(); ++n)
+    if (counted(n)) m += mass_[n];
+  return m;
+}
+
 /* ---------------------------------------------------------------------- */
 
 int Body::split_node(const SplitPlan& plan)
@@ -582,10 +600,15 @@ double Body::remove_element_mass(int e)
   double kinetic = 0;
   for (int a = 0; a < nodes_per_elem(mesh_.etype[e]); ++a) {
     const int n = mesh_.conn[e][a];
-    const double dm = std::min(me[a], mass_[n]);
+    const bool later = !shared_.empty() && shared_[n]; // settle_shared_masses takes it off
+    const double dm = std::min(me[a], later ? mass_[n] - taken_[n] : mass_[n]);
     const double* v = &v_[3 * n];
-    mass_[n] -= dm;
-    inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+    if (later) {
+      taken_[n] += dm;
+    } else {
+      mass_[n] -= dm;
+      inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+    }
     eroded_.mass += dm;
     for (int d = 0; d < 3; ++d)
       eroded_.momentum[d] += dm * v[d];
@@ -603,15 +626,43 @@ double Body::release_bare_nodes(const std::vector<int>& elems)
     for (int a = 0; a < nodes_per_elem(mesh_.etype[e]); ++a) {
       const int n = mesh_.conn[e][a];
       if (stars_.begin(n) != stars_.end(n)) continue;
-      double* v = &v_[3 * n];
-      const double dm = mass_[n];
-      eroded_.mass += dm;
-      for (int d = 0; d < 3; ++d)
-        eroded_.momentum[d] += dm * v[d];
-      kinetic += 0.5 * dm * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      mass_[n] = inv_mass_[n] = 0;
-      if (bc_[n] != NodeBc::Prescribed) v[0] = v[1] = v[2] = 0;
+      if (!shared_.empty() && shared_[n]) continue; // other parts may hold elements on it
+      kinetic += release_node(n);
     }
+  return kinetic;
+}
+
+// A node left without elements: its mass (round-off, or what a shared node had left) is counted
+// as eroded with its momentum and kinetic energy where the node is counted; it stops.
+double Body::release_node(int n)
+{
+  double* v = &v_[3 * n];
+  const double dm = mass_[n];
+  double kinetic = 0;
+  if (counted(n)) {
+    eroded_.mass += dm;
+    for (int d = 0; d < 3; ++d)
+      eroded_.momentum[d] += dm * v[d];
+    kinetic = 0.5 * dm * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  mass_[n] = inv_mass_[n] = 0;
+  if (bc_[n] != NodeBc::Prescribed) v[0] = v[1] = v[2] = 0;
+  return kinetic;
+}
+
+double Body::settle_shared_masses(const double* field, int width, int at)
+{
+  double kinetic = 0;
+  for (int n = 0; n < num_nodes(); ++n) {
+    if (shared_.empty() || !shared_[n]) continue;
+    taken_[n] = 0;
+    const double dm = field[static_cast<std::size_t>(width) * n + at];
+    if (dm == 0) continue;
+    mass_[n] = std::max(mass_[n] - dm, 0.0);
+    inv_mass_[n] = mass_[n] > 0 ? 1.0 / mass_[n] : 0.0;
+    if (field[static_cast<std::size_t>(width) * n + at + 1] == 0) kinetic += release_node(n);
+  }
+  eroded_.energy += kinetic;
   return kinetic;
 }
 

@@ -73,6 +73,11 @@ public:
   // contact and gravity work, reactions, total contact force, axis shield) only the nodes it
   // owns, so that the sum over the parts counts a shared node once (MeshPart::owns). Empty: all.
   void set_counted_nodes(std::vector<std::uint8_t> counted);
+  // A part of a distributed body marks the nodes it shares with other parts (MeshPart). An
+  // erosion with remove_mass takes no mass off them at once: the part keeps what its elements
+  // took (shared_taken) until the parts have summed it (settle_shared_masses), so that every
+  // sharer drops the same mass with the same bits. Empty: none.
+  void set_shared_nodes(std::vector<std::uint8_t> shared);
 
   // ---- explicit update (velocity Verlet, in step with the host) ----
   void advance_time(double dt) { time_ += dt; }
@@ -133,6 +138,16 @@ public:
   // Returns the energy the erosion took out (strain + kinetic of removed mass).
   double erode(const std::vector<int>& elems, bool remove_mass = false);
   const ErosionAccount& eroded() const { return eroded_; }
+  // Shared nodes (set_shared_nodes): the mass this part's erosions took off node n since the last
+  // settle, and the part's active elements around n.
+  double shared_taken(int n) const { return taken_.empty() ? 0.0 : taken_[n]; }
+  int active_elements(int n) const { return static_cast<int>(stars_.end(n) - stars_.begin(n)); }
+  // field[width * n + at], [.. + at + 1]: the mass taken off shared node n and the active elements
+  // around it, each summed over the parts that share n (the same bits on every sharer). Every
+  // sharer drops that mass; a node of an eroded element left without any element on any part
+  // keeps neither mass nor velocity, as erode does, the rest counted as eroded by the part that
+  // counts the node. Returns the kinetic energy removed here.
+  double settle_shared_masses(const double* field, int width, int at);
 
   // ---- state ----
   const Mesh& mesh() const { return mesh_; }
@@ -144,6 +159,7 @@ public:
   const std::vector<double>& velocities() const { return v_; }
   const std::vector<double>& forces() const { return f_; }
   const std::vector<double>& masses() const { return mass_; }
+  double total_mass() const; // the lumped masses of the counted nodes
   const std::vector<NodeBc>& conditions() const { return bc_; }
   const std::vector<int>& parents() const { return parent_; } // -1: not a split copy
 
@@ -320,6 +336,7 @@ private:
   const double* unpack_viscosity(int version, const double* p);
   double remove_element_mass(int e);
   double release_bare_nodes(const std::vector<int>& elems);
+  double release_node(int n);
   void shield_drift(int n);
   void shield_forces();
 
@@ -330,6 +347,8 @@ private:
   RigidMotion motion_;
   std::vector<double> x_, v_, f_, mass_, inv_mass_;
   std::vector<std::uint8_t> counted_; // set_counted_nodes; empty: all
+  std::vector<std::uint8_t> shared_;  // set_shared_nodes; empty: none
+  std::vector<double> taken_;         // per node: mass taken off a shared node, not yet settled
   std::vector<double> f_contact_, f_contact_prev_, f_pending_;
   std::vector<NodeBc> bc_;
   std::vector<double> v_prescribed_;
