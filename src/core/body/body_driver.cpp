@@ -329,6 +329,13 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
   }
   std::vector<BodyDriver*> members = {this};
   members.insert(members.end(), later.begin(), later.end());
+  for (BodyDriver* m : members)
+    if (m->distributed_ && members.size() > 1)
+      fail(m->prefix() + "'parallel distributed' with 'contact_bodies yes' takes the contact of "
+                         "its own pieces only, but fix fem/body " +
+           (m == this ? members[1] : this)->id_ +
+           " has 'contact_bodies yes' too (bodies in contact need 'parallel replicated'); give "
+           "one of them 'contact_bodies no', or this one 'parallel replicated'");
   // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
   // gathered first (the new scene starts without a partition).
   if (scene_owned_ && scene_owned_->size() > 0 && members == scene_members_)
@@ -674,7 +681,11 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
   if (can_erode()) energy = erode_part(energy, first_inverted, last);
   shared_sum_(body_.forces_data(), 3);
   if (can_erode() && last) distributed_erosion(step, dt);
+  // Contact forces: each node's on one part (pieces, then particles), then summed once.
+  const bool pieces = last && spec_->contact_bodies > 0;
+  if (pieces) distributed_body_contacts(step, dt);
   if (particles) distributed_contact(*particles, step, dt);
+  if (pieces || particles) shared_sum_(body_.contact_forces(), 3);
   if (first_inverted >= 0)
     fail_one(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
                     "; the time step is too large or the load too severe for this mesh",
@@ -884,7 +895,10 @@ void BodyDriver::rebuild_surfaces()
 {
   contact_.rebuild_surface(body_.mesh());
   if (spec_->contact_bodies <= 0) return;
-  surface_.build(body_.mesh(), contact_.facets());
+  if (distributed_)
+    part_surface_due_ = true; // from the parts, at the next evaluation (every rank enters)
+  else
+    surface_.build(body_.mesh(), contact_.facets());
   self_contact_.invalidate();
   self_edges_.invalidate();
   if (scene_) scene_->invalidate();
