@@ -331,8 +331,9 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
   members.insert(members.end(), later.begin(), later.end());
   for (BodyDriver* m : members)
     if (m->distributed_ && members.size() > 1)
-      fail(m->prefix() + "'parallel distributed' with 'contact_bodies yes' takes the contact of "
-                         "its own pieces only, but fix fem/body " +
+      fail(m->prefix() +
+           "'parallel distributed' with 'contact_bodies yes' takes the contact of "
+           "its own pieces only, but fix fem/body " +
            (m == this ? members[1] : this)->id_ +
            " has 'contact_bodies yes' too (bodies in contact need 'parallel replicated'); give "
            "one of them 'contact_bodies no', or this one 'parallel replicated'");

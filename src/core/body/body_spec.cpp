@@ -638,9 +638,7 @@ const char* distributed_default_refusal(const BodySpec& s)
 {
   if (s.fracture_every > 0) return "'fracture'";
   if (const char* what = distributed_refusal(s)) return what;
-  return s.erosion.on()          ? "'erosion'"
-         : s.contact_bodies > 0 ? "'contact_bodies yes'"
-                                : nullptr;
+  return s.erosion.on() ? "'erosion'" : s.contact_bodies > 0 ? "'contact_bodies yes'" : nullptr;
 }
 
 namespace
