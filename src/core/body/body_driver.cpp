@@ -525,6 +525,9 @@ std::size_t BodyDriver::memory_bytes() const
   bytes += vector_bytes(surface_.facets) + vector_bytes(surface_.nodes) +
            vector_bytes(surface_.incident_offset) + vector_bytes(surface_.incident) +
            vector_bytes(surface_.reach);
+  // A distributed body's surface replica (contact_bodies yes; empty otherwise).
+  bytes += vector_bytes(surf_x_) + vector_bytes(surf_v_) + vector_bytes(surf_m_) +
+           vector_bytes(surf_f_) + vector_bytes(surf_buf_) + vector_bytes(surf_local_);
   return static_cast<std::size_t>(static_cast<double>(body_.memory_bytes()) + bytes);
 }
 
@@ -667,8 +670,9 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 }
 
 // parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
-// parts (one message each, no collective), and the contact of particles (facet ghosts by boxes,
-// body_ghost_contact.cpp, once per host step). A body that erodes erodes its part's elements here
+// parts (one message each, no collective), the contact of its pieces (contact_bodies yes:
+// body_self_contact.cpp, two all-reductions) and of particles (facet ghosts by boxes,
+// body_ghost_contact.cpp), once per host step. A body that erodes erodes its part's elements here
 // and, at the host step's last evaluation (last), before the contact, takes the follow-up of
 // every part's erosions (body_erosion.cpp: one integer reduction). Otherwise a rank that finds an
 // inverted element or a NaN stops the run by itself (no per-step reduction to find out). dt: the
