@@ -18,6 +18,9 @@ pieces (node to facet, edge to edge) gives the same run at 1, 2, 3 and 4 ranks (
   the pieces touch (step 240), continued at np 2 distributed and np 1 replicated: the
   uninterrupted run's later lines and rows (the pieces' contact state is in the record). With
   cracks through tets (`min_size 0.2`) at np 3: the same.
+* A body that erodes (test_distributed_erosion's scene) with `contact_bodies yes` at np 3: the
+  same erosion lines and energy file as at np 1 (the surface renewed after each erosion, a free
+  node among the contacting nodes after the last batch).
 * Cost, with the PMPI counter at np 3 (difference of two run lengths, blocks in contact): the
   pieces' contact takes exactly two all-reductions per host step (BodyDriver::
   distributed_body_contacts: the surface's positions and velocities, then its contact forces)
@@ -200,6 +203,30 @@ h.check(any("crack through element" in ln for ln in cut["events"]) and
         "min_size 0.2: elements are cut and the pieces touch")
 compare("min_size 0.2, np 3 distributed", cut,
         run_bar(3, "distributed", frac="every 5 min_size 0.2"), BAR_MV)
+
+# A body that erodes (test_distributed_erosion's scene: the 20 mm sphere at 1500 m/s on the
+# clamped J2 block, 3000 tets, erosion plastic_strain 0.3) with contact_bodies yes: the surface
+# renewed after each erosion, the free node the last batch leaves (mesh node 665, step 675) among
+# the contacting nodes.
+def run_erosion(np_, parallel):
+    wd = tempfile.mkdtemp(prefix=f"distributed_self_contact_erosion_{np_}_")
+    h.copy_inputs(["in.fast_impact"], wd)
+    h.make_box_mesh(os.path.join(wd, "block.msh"), (10, 10, 5), (0.1, 0.1, 0.05))
+    body = ("fixed zmin material j2 yield 5e8 hardening 2e9 erosion plastic_strain 0.3 "
+            f"energy_file energy.csv 10 contact_bodies yes parallel {parallel}")
+    out = h.run(args.exe, "in.fast_impact", np_=np_, workdir=wd,
+                variables=dict(v=1500.0, dt=1e-8, x0=0.05, y0=0.05, steps=700, every=50,
+                               bodykw=body))
+    lines = [ln for ln in out.splitlines() if re.search(r"eroded \d+ elements", ln)]
+    return lines, h.read_csv(os.path.join(wd, "energy.csv"))
+
+
+lines1, e1 = run_erosion(1, "replicated")
+lines3, e3 = run_erosion(3, "distributed")
+w, col = h.worst_energy_by_step(e1, e3)
+h.check(len(lines1) == 6 and lines3 == lines1 and w < TOL,
+        f"eroding block with contact_bodies yes, np 3 distributed: the same {len(lines1)} erosion "
+        f"lines, energy file within {w:.1e} of each column's scale (worst: {col})")
 
 # Cost: two all-reductions per host step, and the scene's balance check every 10 steps.
 LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")

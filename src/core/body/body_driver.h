@@ -239,6 +239,7 @@ private:
   // state all-reduced each host step into a surface replica, the scene as for a replicated body,
   // the forces all-reduced back to the nodes' owners.
   void build_part_surface();
+  std::vector<double> free_surface_nodes() const;
   void distributed_body_contacts(std::int64_t step, double dt);
   double distributed_vector_entry(int i);
   void build_distributed(Mesh& whole);

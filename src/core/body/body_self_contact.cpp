@@ -22,17 +22,39 @@ std::vector<int> inverse(const std::vector<int>& global, int size)
 
 } // namespace
 
+// Nodes of the part whose elements, on every part that shares them, are all eroded: (global
+// number, X) per owned one, gathered and sent to every rank (a body that cannot erode has none).
+std::vector<double> BodyDriver::free_surface_nodes() const
+{
+  if (!can_erode()) return {};
+  const Mesh& mesh = body_.mesh();
+  std::vector<double> live(part_.num_nodes(), 0.0); // live elements around each node
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e])
+      for (int n : mesh.conn[e])
+        if (n >= 0) live[n] += 1.0;
+  shared_sum_(live.data(), 1);
+  std::vector<double> mine;
+  for (int n = 0; n < part_.num_nodes(); ++n)
+    if (part_.owns(n) && !(live[n] > 0)) {
+      mine.push_back(part_.global_node[n]);
+      mine.insert(mine.end(), &mesh.X[3 * n], &mesh.X[3 * n] + 3);
+    }
+  const std::vector<double> all = host_.gather ? host_.gather(mine) : mine;
+  return host_.scatter ? host_.scatter([&](int) { return all; }) : all;
+}
+
 // The whole body's contact surface in global node numbers, as a replicated body builds it from
-// its mesh: facets and their order from the whole surface every rank holds (GlobalSurface), each
-// facet's reach from the part that holds its element, reference positions from the nodes'
-// owners, free nodes (all elements around them eroded, on every sharer) by the shared-node sum.
-// Two all-reductions (one facet value, four values per node of the body), entered by every rank
-// at the first evaluation after a topology change; then the nodes' masses (one per surface node).
+// its mesh: facets, their order and their nodes' reference positions from the whole surface
+// every rank holds (GlobalSurface), each facet's reach from the part that holds its element, the
+// free nodes (free_surface_nodes) and the surface nodes' masses from their owners. Entered by
+// every rank at the first evaluation after a topology change: two all-reductions of one double
+// per facet and per surface node (and, for a body that can erode, a gather and a scatter of the
+// free nodes).
 void BodyDriver::build_part_surface()
 {
   part_surface_due_ = false;
   const GlobalSurface& whole = ghosts_.surface();
-  const Mesh& mesh = body_.mesh();
   const int ng = global_nodes_;
   const std::vector<int> local_node = inverse(part_.global_node, ng);
   int ge = 0;
@@ -46,48 +68,36 @@ void BodyDriver::build_part_surface()
     fc.elem = local_elem[fc.elem];
     for (int j = 0; j < fc.nn; ++j)
       fc.n[j] = local_node[fc.n[j]];
-    reach[k] = facet_reach(mesh, fc);
+    reach[k] = facet_reach(body_.mesh(), fc);
   }
   host_.sum(reach.data(), static_cast<int>(reach.size()));
-  // Live elements around each node of the part, summed over its sharers: 0 makes it free.
-  const int nn = part_.num_nodes();
-  std::vector<double> live(nn, 0.0);
-  for (int e = 0; e < mesh.num_elems(); ++e)
-    if (mesh.active[e])
-      for (int n : mesh.conn[e])
-        if (n >= 0) live[n] += 1.0;
-  shared_sum_(live.data(), 1);
-  std::vector<double> node(4 * static_cast<size_t>(ng), 0.0); // X, free
-  for (int n = 0; n < nn; ++n)
-    if (part_.owns(n)) {
-      const int g = part_.global_node[n];
-      std::copy(&mesh.X[3 * n], &mesh.X[3 * n] + 3, &node[4 * g]);
-      node[4 * g + 3] = live[n] > 0 ? 0.0 : 1.0;
-    }
-  host_.sum(node.data(), 4 * ng);
-  std::vector<double> X(3 * static_cast<size_t>(ng));
+  std::vector<double> X(3 * static_cast<size_t>(ng), 0.0); // surface nodes' only
+  for (size_t i = 0; i < whole.nodes.size(); ++i)
+    std::copy(&whole.X[3 * i], &whole.X[3 * i] + 3, &X[3 * static_cast<size_t>(whole.nodes[i])]);
+  const std::vector<double> free_list = free_surface_nodes();
   std::vector<int> free;
-  for (int g = 0; g < ng; ++g) {
-    std::copy(&node[4 * g], &node[4 * g] + 3, &X[3 * g]);
-    if (node[4 * g + 3] > 0.5) free.push_back(g);
+  for (size_t k = 0; k + 3 < free_list.size(); k += 4) {
+    const int g = static_cast<int>(free_list[k]);
+    free.push_back(g);
+    std::copy(&free_list[k + 1], &free_list[k + 1] + 3, &X[3 * static_cast<size_t>(g)]);
   }
+  std::sort(free.begin(), free.end());
   surface_.build(whole.facets, reach, X.data(), ng, free);
   const std::vector<int>& nodes = surface_.nodes;
   surf_local_.assign(nodes.size(), -1);
   surf_owned_.assign(nodes.size(), 0);
+  std::vector<double> m(nodes.size(), 0.0);
   for (size_t s = 0; s < nodes.size(); ++s) {
     const int n = local_node[nodes[s]];
     surf_local_[s] = n;
     surf_owned_[s] = n >= 0 && part_.owns(n) ? 1 : 0;
+    if (surf_owned_[s]) m[s] = body_.masses()[n];
   }
+  host_.sum(m.data(), static_cast<int>(m.size()));
   surf_x_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_v_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_f_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_m_.assign(ng, 0.0);
-  std::vector<double> m(nodes.size(), 0.0);
-  for (size_t s = 0; s < nodes.size(); ++s)
-    if (surf_owned_[s]) m[s] = body_.masses()[surf_local_[s]];
-  host_.sum(m.data(), static_cast<int>(m.size()));
   for (size_t s = 0; s < nodes.size(); ++s)
     surf_m_[nodes[s]] = m[s];
 }
