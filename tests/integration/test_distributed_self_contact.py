@@ -17,7 +17,8 @@ pieces (node to facet, edge to edge) gives the same run at 1, 2, 3 and 4 ranks (
   contact does work (the contact work column is not zero). Its restart file written at np 3 while
   the pieces touch (step 240), continued at np 2 distributed and np 1 replicated: the
   uninterrupted run's later lines and rows (the pieces' contact state is in the record). With
-  cracks through tets (`min_size 0.2`) at np 3: the same.
+  cracks through tets (`min_size 0.2`) at np 3: the same; with three steel spheres hitting the
+  bar across its crack (test_distributed_fracture's) at np 2: the same.
 * A body that erodes (test_distributed_erosion's scene) with `contact_bodies yes` at np 3: the
   same erosion lines and energy file as at np 1 (the surface renewed after each erosion, a free
   node among the contacting nodes after the last batch).
@@ -104,7 +105,7 @@ def run_blocks(np_, parallel, steps=BLOCK_STEPS, other=0, expect_fail=False, dim
     return out if expect_fail else result(wd, out)
 
 
-def run_bar(np_, parallel, restart_at=RESTART_AT, frac="every 5"):
+def run_bar(np_, parallel, restart_at=RESTART_AT, frac="every 5", balls=0):
     """restart_at: the run is split there (run, write_restart, run) in every run compared, since
     a split while the pieces touch changes the contact work by 1.2e-6 of its scale at np 1
     replicated too (measured; not traced here)."""
@@ -114,7 +115,7 @@ def run_bar(np_, parallel, restart_at=RESTART_AT, frac="every 5"):
     out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
                 variables={"frac": frac, "parallel": parallel, "dt": 2e-7,
                            "steps": BAR_STEPS, "speed": SPEED, "pieces": "yes",
-                           "restart_at": restart_at})
+                           "restart_at": restart_at, "balls": balls})
     return result(wd, out)
 
 
@@ -203,6 +204,14 @@ h.check(any("crack through element" in ln for ln in cut["events"]) and
         "min_size 0.2: elements are cut and the pieces touch")
 compare("min_size 0.2, np 3 distributed", cut,
         run_bar(3, "distributed", frac="every 5 min_size 0.2"), BAR_MV)
+
+# Three steel spheres hitting the breaking bar across its crack as well (facet ghosts; the
+# contact forces of pieces and particles summed once at shared nodes).
+balls = run_bar(1, "replicated", balls=1)
+hdr, rows = balls["thermo"]
+ke = [r[hdr.index("KinEng")] for r in rows]
+h.check(min(ke) < 0.5 * ke[0], f"the spheres hit the bar ({ke[0]:.3g} -> {min(ke):.3g} J)")
+compare("spheres and pieces, np 2 distributed", balls, run_bar(2, "distributed", balls=1), BAR_MV)
 
 # A body that erodes (test_distributed_erosion's scene: the 20 mm sphere at 1500 m/s on the
 # clamped J2 block, 3000 tets, erosion plastic_strain 0.3) with contact_bodies yes: the surface
