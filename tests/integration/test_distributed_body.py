@@ -18,9 +18,9 @@ twisting by initial velocities, corotational; no particles. Asserted:
   issues no collective between thermo steps but the re-estimate of the sub-cycling (substeps
   auto: one min-reduction of the parts' stable steps every 100 steps, BodyDriver::check_squeezed;
   this test asserted none before the distributed body followed its stable step);
-* refusals: `parallel distributed` with a breaking body's default `contact_bodies yes` stops
-  naming the keywords (particle contact: test_distributed_contact.py; erosion, `erosion_mass
-  remove` included: test_distributed_erosion.py).
+* refusals: `parallel distributed` with `rigid yes` stops naming the keyword (particle
+  contact: test_distributed_contact.py; erosion, `erosion_mass remove` included:
+  test_distributed_erosion.py; the pieces' contact: test_distributed_self_contact.py).
 """
 import glob
 import os
@@ -161,10 +161,9 @@ shutil.rmtree(wd, ignore_errors=True)
 BODY = ("fix body all fem/body file block.msh type 2 density 2400 youngs 3e10 poisson 0.2 "
         "parallel distributed")
 REFUSALS = {
-    # a breaking body's pieces collide by default: both keywords named (breaking distributed
-    # bodies themselves: test_distributed_fracture.py)
-    "fracture": ("", " material rankine strength 3e6 fracture_energy 100 fracture nodal",
-                 "'contact_bodies yes' (the default of a body with 'fracture')"),
+    # (breaking distributed bodies and their pieces' contact: test_distributed_fracture.py,
+    # test_distributed_self_contact.py)
+    "rigid yes": ("", " rigid yes", "does not work with 'rigid yes'"),
 }
 for name, (before, extra, expect) in REFUSALS.items():
     wd = tempfile.mkdtemp(prefix="distributed_refuse_")

@@ -701,12 +701,10 @@ TEST(BodySpec, ParallelDistributed)
             "keyword 'parallel' expects distributed or replicated");
   EXPECT_EQ(check_error(body + "parallel distributed"), "");
   const std::string tail = " yet; use 'parallel replicated'";
-  // A breaking body breaks distributed, but its pieces' default contact is refused by name.
+  // A breaking body breaks distributed, its pieces in contact (the default) or not.
   EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
                                "fracture_energy 100 fracture nodal"),
-            "keyword 'parallel distributed' does not work with 'contact_bodies yes' (the default "
-            "of a body with 'fracture') yet; give 'contact_bodies no' (its fragments then pass "
-            "through each other) or use 'parallel replicated'");
+            "");
   EXPECT_EQ(check_error(body + "parallel distributed material rankine strength 3e6 "
                                "fracture_energy 100 fracture nodal contact_bodies no"),
             "");
@@ -721,8 +719,9 @@ TEST(BodySpec, ParallelDistributed)
   EXPECT_EQ(error_of(body + "parallel distributed rebalance 1.2 every 0"),
             "keyword 'parallel distributed rebalance B every' expects a step count N >= 1, got "
             "'0'");
-  EXPECT_EQ(check_error(body + "parallel distributed contact_bodies yes"),
-            "keyword 'parallel distributed' does not work with 'contact_bodies yes'" + tail);
+  EXPECT_EQ(check_error(body + "parallel distributed contact_bodies yes"), "");
+  EXPECT_EQ(check_error(body + "parallel distributed rigid yes"),
+            "keyword 'parallel distributed' does not work with 'rigid yes'" + tail);
   // A distributed body erodes, its nodes keeping the mass or not.
   EXPECT_EQ(check_error(body + "parallel distributed material j2 yield 4e8 hardening 1e8 "
                                "erosion plastic_strain 2"),
@@ -771,6 +770,13 @@ TEST(BodySpec, ParallelChosenBySize)
   EXPECT_NE(parallel_choice(s, 1000000, distributed)
                 .find("uses 'erosion', which a distributed body does only when asked: 'parallel "
                       "distributed')"),
+            std::string::npos);
+  EXPECT_FALSE(distributed);
+  s = parse(body + "contact_bodies yes");
+  check_body_spec(s, BodySpecHost{}, 4, 3);
+  EXPECT_NE(parallel_choice(s, 1000000, distributed)
+                .find("uses 'contact_bodies yes', which a distributed body does only when asked: "
+                      "'parallel distributed')"),
             std::string::npos);
   EXPECT_FALSE(distributed);
   s = parse(body + "parallel replicated");

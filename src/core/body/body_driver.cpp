@@ -329,6 +329,14 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
   }
   std::vector<BodyDriver*> members = {this};
   members.insert(members.end(), later.begin(), later.end());
+  for (BodyDriver* m : members)
+    if (m->distributed_ && members.size() > 1)
+      fail(m->prefix() +
+           "'parallel distributed' with 'contact_bodies yes' takes the contact of "
+           "its own pieces only, but fix fem/body " +
+           (m == this ? members[1] : this)->id_ +
+           " has 'contact_bodies yes' too (bodies in contact need 'parallel replicated'); give "
+           "one of them 'contact_bodies no', or this one 'parallel replicated'");
   // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
   // gathered first (the new scene starts without a partition).
   if (scene_owned_ && scene_owned_->size() > 0 && members == scene_members_)
@@ -517,6 +525,9 @@ std::size_t BodyDriver::memory_bytes() const
   bytes += vector_bytes(surface_.facets) + vector_bytes(surface_.nodes) +
            vector_bytes(surface_.incident_offset) + vector_bytes(surface_.incident) +
            vector_bytes(surface_.reach);
+  // A distributed body's surface replica (contact_bodies yes; empty otherwise).
+  bytes += vector_bytes(surf_x_) + vector_bytes(surf_v_) + vector_bytes(surf_m_) +
+           vector_bytes(surf_f_) + vector_bytes(surf_buf_) + vector_bytes(surf_local_);
   return static_cast<std::size_t>(static_cast<double>(body_.memory_bytes()) + bytes);
 }
 
@@ -659,8 +670,9 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 }
 
 // parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
-// parts (one message each, no collective), and the contact of particles (facet ghosts by boxes,
-// body_ghost_contact.cpp, once per host step). A body that erodes erodes its part's elements here
+// parts (one message each, no collective), the contact of its pieces (contact_bodies yes:
+// body_self_contact.cpp, two all-reductions) and of particles (facet ghosts by boxes,
+// body_ghost_contact.cpp), once per host step. A body that erodes erodes its part's elements here
 // and, at the host step's last evaluation (last), before the contact, takes the follow-up of
 // every part's erosions (body_erosion.cpp: one integer reduction). Otherwise a rank that finds an
 // inverted element or a NaN stops the run by itself (no per-step reduction to find out). dt: the
@@ -677,7 +689,11 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
   else
     shared_sum_(body_.forces_data(), 3);
   if (can_erode() && last) distributed_erosion(step, dt);
+  // Contact forces: each node's on one part (pieces, then particles), then summed once.
+  const bool pieces = last && spec_->contact_bodies > 0;
+  if (pieces) distributed_body_contacts(step, dt);
   if (particles) distributed_contact(*particles, step, dt);
+  if (pieces || particles) shared_sum_(body_.contact_forces(), 3);
   if (first_inverted >= 0)
     fail_one(format("fix fem/body %s: element %d inverted (det F <= 0) at step %" PRId64
                     "; the time step is too large or the load too severe for this mesh",
@@ -887,7 +903,10 @@ void BodyDriver::rebuild_surfaces()
 {
   contact_.rebuild_surface(body_.mesh());
   if (spec_->contact_bodies <= 0) return;
-  surface_.build(body_.mesh(), contact_.facets());
+  if (distributed_)
+    part_surface_due_ = true; // from the parts, at the next evaluation (every rank enters)
+  else
+    surface_.build(body_.mesh(), contact_.facets());
   self_contact_.invalidate();
   self_edges_.invalidate();
   if (scene_) scene_->invalidate();

@@ -237,6 +237,12 @@ private:
   std::vector<double> pack_part_erosion() const;
   void renew_surface_after_erosion(const std::vector<int>& eroded);
   void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
+  // The contact of a distributed body's pieces (body_self_contact.cpp): the whole surface's
+  // state all-reduced each host step into a surface replica, the scene as for a replicated body,
+  // the forces all-reduced back to the nodes' owners.
+  void build_part_surface();
+  std::vector<double> free_surface_nodes() const;
+  void distributed_body_contacts(std::int64_t step, double dt);
   double distributed_vector_entry(int i);
   void build_distributed(Mesh& whole);
   // A distributed body that breaks (body_breaking.cpp): the fracture check on the whole body
@@ -304,7 +310,15 @@ private:
   bool boxes_due_ = true;
   std::vector<std::vector<double>> ghost_out_, ghost_in_, ghost_back_, ghost_returned_;
   ParticleFacetContact contact_;
-  ContactSurface surface_;
+  ContactSurface surface_; // a distributed body's: the whole surface in global node numbers
+  // A distributed body's surface replica (contact_bodies yes): per surface node its index in the
+  // part (-1: not the part's) and whether the part owns it; positions, velocities, masses and
+  // contact forces by global node number (only surface nodes used); renewed at the next
+  // evaluation after a topology change (every rank alike).
+  bool part_surface_due_ = true;
+  std::vector<int> surf_local_;
+  std::vector<char> surf_owned_;
+  std::vector<double> surf_x_, surf_v_, surf_m_, surf_f_, surf_buf_;
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
   // Body-body contact: the scene (owned by the first body, which lists the members, configures

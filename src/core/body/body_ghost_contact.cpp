@@ -9,8 +9,8 @@ namespace fracdem
 // re-neighbours every rank gathers every rank's particle box and surface box (12 doubles each,
 // the only collective); each step every part sends the facets within reach of each partner's
 // particles (one message per partner), the partner evaluates its particles against them and its
-// own facets and returns the nodes' forces (one message back), and the shared-node sum gives every
-// sharer the total once.
+// own facets and returns the nodes' forces (one message back), and the shared-node sum
+// (distributed_forces, after the pieces' contact too) gives every sharer the total once.
 void BodyDriver::distributed_contact(const ParticleArrays& p, std::int64_t step, double dt)
 {
   const double* x = body_.positions().data();
@@ -26,8 +26,7 @@ void BodyDriver::distributed_contact(const ParticleArrays& p, std::int64_t step,
   const ParticleFacetResult res =
       ghosts_.evaluate(p, ghost_in_, x, v, dt, body_.contact_forces(), ghost_back_);
   host_.exchange(1, ghosts_.recv_from(), ghost_back_, ghosts_.send_to(), ghost_returned_);
-  ghosts_.add_returned(ghost_returned_, body_.contact_forces());
-  shared_sum_(body_.contact_forces(), 3);
+  ghosts_.add_returned(ghost_returned_, body_.contact_forces()); // summed by the caller
   ncontacts_ = res.contacts;
   // Warnings come from the rank that sees the case (no collective per step).
   warn_history_slots(res);

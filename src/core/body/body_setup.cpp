@@ -177,14 +177,11 @@ std::string parallel_choice(const BodySpec& spec, long long elements, bool& dist
   if (spec.have_parallel) return "";
   distributed = false;
   const char* refused = distributed_default_refusal(spec);
-  // What a distributed body does when asked: breaking (with 'contact_bodies no') and eroding.
-  const bool breaks = spec.fracture_every > 0, erodes = spec.erosion.on();
-  const bool when_asked =
-      refused && !spec.rigid && (breaks || erodes) && !(spec.contact_bodies > 0 && !breaks);
+  // What a distributed body does when asked: breaking, eroding, its pieces' contact.
+  const bool when_asked = refused && !distributed_refusal(spec);
   if (when_asked)
     return std::string("parallel replicated (by default: the body uses ") + refused +
-           ", which a distributed body does only when asked: 'parallel distributed'" +
-           (breaks ? " with 'contact_bodies no')" : ")");
+           ", which a distributed body does only when asked: 'parallel distributed')";
   if (refused)
     return std::string("parallel replicated (by default: the body uses ") + refused +
            ", which distributed bodies do not do yet)";

@@ -174,8 +174,8 @@ void check_body_spec(BodySpec& spec, const BodySpecHost& host, int ntypes, int d
 // What of the (checked) spec a distributed body does not do yet ("'rigid yes'", ...), or null.
 const char* distributed_refusal(const BodySpec& spec);
 // What keeps the body replicated when the spec leaves the choice to its size: the refusals and
-// 'fracture' and 'erosion' (a distributed body breaks and erodes only when asked:
-// docs/distributed_bodies.md).
+// 'fracture', 'erosion' and 'contact_bodies yes' (a distributed body breaks, erodes and takes
+// its pieces' contact only when asked: docs/distributed_bodies.md).
 const char* distributed_default_refusal(const BodySpec& spec);
 
 } // namespace fracdem

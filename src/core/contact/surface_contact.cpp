@@ -33,31 +33,67 @@ void facet_unit_normal(const double* x, const Facet& fc, double* n)
     n[d] = l > 0 ? n[d] / l : 0.0;
 }
 
+double facet_reach(const Mesh& mesh, const Facet& fc)
+{
+  const double s = facet_size(mesh.X.data(), fc);
+  // Altitude of the owning element over the facet: 2A/L (tri3), A/L (quad4), 3V/area (tet4).
+  const double measure = std::fabs(signed_measure(mesh, fc.elem));
+  const ElemType t = mesh.etype[fc.elem];
+  const double altitude = t == ElemType::Tet4   ? 3 * measure / (s * s)
+                          : t == ElemType::Tri3 ? 2 * measure / s
+                                                : measure / s;
+  return 0.5 * altitude;
+}
+
+// Free nodes: every element around them eroded (erosion_mass keep leaves their mass on them, and
+// they fly on as point masses). They have no facet of their own, so they still hit surfaces as
+// contacting nodes of the body (issue #10: free nodes can still hit surfaces). Nodes of no
+// element at all (none in a mesh as read) are not surface.
+std::vector<int> free_nodes(const Mesh& mesh)
+{
+  const int nn = mesh.num_nodes();
+  std::vector<std::uint8_t> in_elem(nn, 0), in_live(nn, 0);
+  bool eroded = false;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    eroded = eroded || !mesh.active[e];
+    for (int n : mesh.conn[e])
+      if (n >= 0) {
+        in_elem[n] = 1;
+        in_live[n] = in_live[n] || mesh.active[e];
+      }
+  }
+  std::vector<int> out;
+  if (!eroded) return out;
+  for (int n = 0; n < nn; ++n)
+    if (in_elem[n] && !in_live[n]) out.push_back(n);
+  return out;
+}
+
 void ContactSurface::build(const Mesh& mesh, const std::vector<Facet>& boundary)
 {
+  std::vector<double> r(boundary.size());
+  for (size_t k = 0; k < boundary.size(); ++k)
+    r[k] = facet_reach(mesh, boundary[k]);
+  build(boundary, r, mesh.X.data(), mesh.num_nodes(), free_nodes(mesh));
+}
+
+void ContactSurface::build(const std::vector<Facet>& boundary, const std::vector<double>& reaches,
+                           const double* X, int num_nodes, const std::vector<int>& free)
+{
   facets = boundary;
-  nodes.clear();
-  reach.assign(facets.size(), 0.0);
+  reach = reaches;
   max_reach = 0;
-  const double* X = mesh.X.data();
+  nodes.clear();
   for (size_t k = 0; k < facets.size(); ++k) {
     const Facet& fc = facets[k];
     for (int j = 0; j < fc.nn; ++j)
       nodes.push_back(fc.n[j]);
-    const double s = facet_size(X, fc);
-    // Altitude of the owning element over the facet: 2A/L (tri3), A/L (quad4), 3V/area (tet4).
-    const double measure = std::fabs(signed_measure(mesh, fc.elem));
-    const ElemType t = mesh.etype[fc.elem];
-    const double altitude = t == ElemType::Tet4   ? 3 * measure / (s * s)
-                            : t == ElemType::Tri3 ? 2 * measure / s
-                                                  : measure / s;
-    reach[k] = 0.5 * altitude;
     max_reach = std::max(max_reach, reach[k]);
   }
-  add_free_nodes(mesh);
+  nodes.insert(nodes.end(), free.begin(), free.end());
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  const int nn = mesh.num_nodes();
+  const int nn = num_nodes;
   incident_offset.assign(nn + 1, 0);
   for (const Facet& fc : facets)
     for (int j = 0; j < fc.nn; ++j)
@@ -86,28 +122,6 @@ void ContactSurface::build_sites(const double* X, int num_nodes)
   std::stable_sort(order.begin(), order.end(), [&](int p, int q) { return ref(p) < ref(q); });
   for (size_t i = 1; i < order.size(); ++i)
     if (ref(order[i]) == ref(order[i - 1])) site[order[i]] = site[order[i - 1]];
-}
-
-// Free nodes: every element around them eroded (erosion_mass keep leaves their mass on them, and
-// they fly on as point masses). They have no facet of their own, so they still hit surfaces as
-// contacting nodes of the body (issue #10: free nodes can still hit surfaces). Nodes of no
-// element at all (none in a mesh as read) are not surface.
-void ContactSurface::add_free_nodes(const Mesh& mesh)
-{
-  const int nn = mesh.num_nodes();
-  std::vector<std::uint8_t> in_elem(nn, 0), in_live(nn, 0);
-  bool eroded = false;
-  for (int e = 0; e < mesh.num_elems(); ++e) {
-    eroded = eroded || !mesh.active[e];
-    for (int n : mesh.conn[e])
-      if (n >= 0) {
-        in_elem[n] = 1;
-        in_live[n] = in_live[n] || mesh.active[e];
-      }
-  }
-  if (!eroded) return;
-  for (int n = 0; n < nn; ++n)
-    if (in_elem[n] && !in_live[n]) nodes.push_back(n);
 }
 
 // Edges shared by exactly two boundary triangles, sorted by their nodes; feature test on the

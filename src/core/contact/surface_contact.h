@@ -78,7 +78,11 @@ struct ContactSurface {
   // closed crack, whose faces' edges meet there (edge_contact.h).
   std::vector<int> site;
   void build(const Mesh& mesh, const std::vector<Facet>& boundary);
-  void add_free_nodes(const Mesh& mesh);
+  // The same from its parts: per facet its reach (facet_reach), reference positions X of
+  // num_nodes nodes (only the surface's are read), the free nodes (free_nodes). A distributed
+  // body builds its whole surface this way from what its parts hold (global node numbers).
+  void build(const std::vector<Facet>& boundary, const std::vector<double>& reaches,
+             const double* X, int num_nodes, const std::vector<int>& free);
   // Whether `facet` shares a node with a facet around `node` (same body only).
   bool neighbourhood(int node, int facet) const;
   // The corner of `facet` at `node`'s site that is not `node` (its split copy), or -1.
@@ -95,6 +99,11 @@ private:
   void build_sites(const double* X, int num_nodes);
   void build_edges(const double* X);
 };
+
+// Deepest contact a facet accepts: half the altitude of its element over it (mesh.X).
+double facet_reach(const Mesh& mesh, const Facet& fc);
+// Nodes of eroded elements only (they still hit surfaces as contacting nodes), ascending.
+std::vector<int> free_nodes(const Mesh& mesh);
 
 // A body's nodal state as surface contact sees it; forces are added to f (null: not added).
 struct ContactBodyState {
