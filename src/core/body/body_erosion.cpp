@@ -128,7 +128,7 @@ void BodyDriver::distributed_erosion(std::int64_t step, double dt)
     std::vector<int> eroded;
     if (host_.rank == 0) merge_part_erosion(step, all, at, lines, eroded);
     renew_surface_after_erosion(eroded);
-    broken_ = true; // its restart record is the whole body's (element activity)
+    broken_ = true; // the body has changed (stored in the parts records' head)
     for (size_t i = 0; i < at.size(); ++i) {
       for (const std::string& line : lines[i])
         print(line);
