@@ -48,6 +48,8 @@ FRACDEM_METHODS = {  # name -> variables of in.settle_fracdem
                                             partitioner="scotch"),
     "graph a posteriori counts rcb": dict(thresh=1.05, model="aposteriori", cost="counts",
                                           partitioner="rcb"),
+    "graph a posteriori counts layers": dict(thresh=1.05, model="aposteriori", cost="counts",
+                                             partitioner="layers"),
 }
 # Control (settle only): the stock grid cut into px x py sub-domains holding identical copies of
 # the scene (no jitter; lattices commensurate with the grid, atoms off the cuts). The work model

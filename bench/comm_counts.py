@@ -1,8 +1,10 @@
 """Exact MPI communication counts per rank and step on the settling bed (stock slabs, graph
-ownership with the METIS, the compact `rcb` and the brick-wall `layers` partitioner, and LAMMPS rcb where Debian's `lmp`
-is installed), with the PMPI counter (build/libfracdem_mpicount.so, LD_PRELOADed). Two runs of
-different lengths per method; their difference is the traffic of the steps in between, set-up
-excluded. Counts do not depend on the machine, so oversubscribed rank counts are as valid as any.
+ownership with the METIS, the compact `rcb` and the brick-wall `layers` partitioner, and LAMMPS
+rcb where Debian's `lmp` is installed), with the PMPI counter (build/libfracdem_mpicount.so,
+LD_PRELOADed). Two runs of different lengths per method (tests/support/counted_runs.py, shared
+with tests/integration/test_comm_counts.py); their difference is the traffic of the steps in
+between, set-up excluded. Counts do not depend on the machine, so oversubscribed rank counts are
+as valid as any.
 Beside the counts, the balance of the same runs: B of the cost model (`cost counts`, so exact
 too) at the checks in the window, from fix balance/graph's CSV; for LAMMPS the max/avg of
 per-rank neighbour pairs at the end (what `fix balance rcb weight neigh` balances).
@@ -18,7 +20,6 @@ no FE body).
 import argparse
 import csv
 import os
-import shutil
 import sys
 import tempfile
 
@@ -26,6 +27,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "tests", "support"))
 sys.path.insert(0, os.path.join(ROOT, "python"))
+import counted_runs  # noqa: E402
 import mpicount  # noqa: E402
 
 METHODS = {  # name -> variables of the scene's fracdem input (LAMMPS: of its LAMMPS input)
@@ -36,7 +38,7 @@ METHODS = {  # name -> variables of the scene's fracdem input (LAMMPS: of its LA
                                                      partitioner="rcb repartition refine"),
     "graph a posteriori counts layers": dict(thresh=1.05, cost="counts", every=200,
                                              partitioner="layers"),
-    "LAMMPS rcb neigh": dict(balance="rcb_neigh", every=200, thresh=1.05),
+    "LAMMPS rcb neigh": dict(balance=counted_runs.LAMMPS_RCB, every=200, thresh=1.05),
 }
 SCENES = {  # scene -> (fracdem input, LAMMPS input or None, scene variables, mesh writer)
     "settle": ("in.settle_fracdem", "in.settle_lammps", {}, None),
@@ -75,27 +77,23 @@ def measure(exe, lib, method, np_, steps, sites, scene="settle", extra=None):
     if METHODS[method].get("thresh") == "1e30":
         variables["thresh"] = "1e30"  # the stock slabs stay unbalanced whatever --var says
     wd = tempfile.mkdtemp(prefix="comm_counts_")
-    shutil.copy(os.path.join(HERE, "inputs", script), wd)
     if mesh:
         import balance_compare  # noqa: E402
 
         balance_compare.write_mesh(mesh, wd)
-    runs, text = [], ""
-    for n in steps:
-        text, ranks = mpicount.run(exe, script, np_, wd, lib, f"s{n}", dict(variables, steps=n))
-        runs.append(ranks)
-    diffs = mpicount.difference(runs[1], runs[0])
+    w = counted_runs.window(exe, lib, os.path.join(HERE, "inputs", script), np_, steps, variables,
+                            wd)
     window = steps[1] - steps[0]
     if sites:
         print(f"## {method}, {np_} ranks: busiest call sites, steps {steps[0]}-{steps[1]}")
-        for line in mpicount.site_lines(diffs, window, sites):
+        for line in mpicount.site_lines(w.diffs, window, sites):
             print("   ", line)
-    s = mpicount.summarise(diffs, window)
+    s = dict(w.summary)
     s.update(balance_figures(wd, steps[0]))
     if method.startswith("LAMMPS"):
         from fracdem import balance  # noqa: E402
 
-        st = balance.run_stats(text)
+        st = balance.run_stats(w.texts[-1])
         if st.get("neighs_ave"):
             s["neigh_B"] = st["neighs_max"] / st["neighs_ave"]
     return s
@@ -182,7 +180,7 @@ def main():
     a = ap.parse_args()
     exe_path = os.path.abspath(a.exe)
     lib = a.lib or os.path.join(os.path.dirname(exe_path), "libfracdem_mpicount.so")
-    lmp = shutil.which("lmp")
+    lmp = counted_runs.lmp()
     rows = []
     for np_ in a.ranks:
         for method in a.methods:
