@@ -156,8 +156,10 @@ def check_lammps(np_):
     rcb's, with `partitioner layers cells 1`, the partitioner that meets both at 4, 8 and 16
     ranks (docs/balance_comparison.md; `metis` has more partners than rcb at 4 and 8 ranks on
     this bed, `rcb` at 16). Skipped, saying so, where Debian's `lmp` is not installed."""
+    t = time.time()
     lmp = counted_runs.lammps_rcb(LIB, LAMMPS_IN, np_, (SHORT, LONG),
                                   dict(every=BED["every"], thresh=BED["thresh"]))
+    print(f"time: LAMMPS runs, {np_} ranks {time.time() - t:.1f} s")
     if lmp is None:
         print(f"note: np={np_}: Debian `lmp` (package lammps, installed by scripts/setup.sh) is "
               f"not installed: the comparison with LAMMPS rcb is skipped")
@@ -204,16 +206,23 @@ def check_strips(np_=4):
             f"(max {metis['msgs_max']:.2f})")
 
 
-t0 = time.time()
-check_ranks(4)
-check_lammps(4)
-elapsed = time.time() - t0
-check_strips(4)
-check_compact(8)
-check_lammps(8)
+def timed(label, check, *a):
+    """Run one part; say how long it took (the LAMMPS parts are what Debian's lammps costs)."""
+    t = time.time()
+    check(*a)
+    t = time.time() - t
+    print(f"time: {label} {t:.1f} s")
+    return t
+
+
+elapsed = timed("stock and graph, 4 ranks", check_ranks, 4)
+elapsed += timed("layers against LAMMPS rcb, 4 ranks", check_lammps, 4)
+timed("strips on the wide bed, 4 ranks", check_strips, 4)
+timed("rcb against metis, 8 ranks", check_compact, 8)
+timed("layers against LAMMPS rcb, 8 ranks", check_lammps, 8)
 # 16 ranks oversubscribed: only where the 4-rank case shows it fits the time budget (~4x longer).
 if elapsed * 4 < 120:
-    check_ranks(16)
-    check_lammps(16)
+    timed("stock and graph, 16 ranks", check_ranks, 16)
+    timed("layers against LAMMPS rcb, 16 ranks", check_lammps, 16)
 else:
     print(f"note: 16 ranks skipped: 4 ranks took {elapsed:.0f} s, 16 would exceed 2 minutes here")
