@@ -95,7 +95,9 @@ void BodyDriver::build_part_surface()
     if (surf_owned_[s]) m[s] = body_.masses()[n];
   }
   host_.sum(m.data(), static_cast<int>(m.size()));
-  surf_x_.assign(3 * static_cast<size_t>(ng), 0.0);
+  // Nodes not known this step sit at their last known position (at first: their reference one,
+  // so that the edge contact's search over the whole surface finds few pairs among them).
+  surf_x_ = std::move(X);
   surf_v_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_f_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_m_.assign(ng, 0.0);
@@ -116,7 +118,8 @@ void BodyDriver::gather_piece_state()
   piece_state_spread_ = false;
   const std::vector<int>& nodes = surface_.nodes;
   std::vector<double> buf(3 * nodes.size());
-  self_contact_.export_state(nodes, [&](size_t s) { return surf_owned_[s] != 0; }, buf.data());
+  self_contact_.export_state(
+      nodes, [&](size_t s) { return surf_owned_[s] != 0; }, buf.data());
   host_.sum(buf.data(), static_cast<int>(buf.size()));
   self_contact_.import_state(nodes, buf.data());
   if (!spec_->contact_edges) return;
@@ -142,7 +145,8 @@ void BodyDriver::distributed_body_contacts(std::int64_t, double dt)
   if (part_surface_due_) build_part_surface();
   const double* x = body_.positions().data();
   const double* v = body_.velocities().data();
-  const double travel = std::max(spec_->buffer, 0.0);
+  // The search buffer as the host resolved it (by default its neighbour skin).
+  const double travel = std::max({contact_.options().buffer, spec_->buffer, 0.0});
   if (piece_boxes_due_) {
     const std::vector<double> box = pieces_.local_box(x, travel + surface_.max_reach);
     pieces_.set_boxes(host_.all_gather ? host_.all_gather(box) : box);

@@ -78,7 +78,7 @@ void PieceGhosts::set_boxes(const std::vector<double>& all)
     partners_ = std::move(partners);
     recv_nodes_.assign(partners_.size(), {});
   }
-  send_ids_ = true; // the partners' S may have changed with the topology: sent again
+  send_ids_ = learn_ = true; // S of the partners sent again; known nodes learnt again
   ++box_exchanges_;
 }
 
@@ -90,8 +90,7 @@ bool PieceGhosts::moved_beyond(const double* x, double travel) const
   return false;
 }
 
-void PieceGhosts::outgoing(const double* x, const double* v,
-                           std::vector<std::vector<double>>& out)
+void PieceGhosts::outgoing(const double* x, const double* v, std::vector<std::vector<double>>& out)
 {
   out.resize(partners_.size());
   for (std::vector<double>& m : out) {
@@ -109,8 +108,8 @@ void PieceGhosts::outgoing(const double* x, const double* v,
   send_ids_ = false;
 }
 
-void PieceGhosts::take(const std::vector<std::vector<double>>& in, const double* x,
-                       const double* v, double* rx, double* rv, double* rf)
+void PieceGhosts::take(const std::vector<std::vector<double>>& in, const double* x, const double* v,
+                       double* rx, double* rv, double* rf)
 {
   for (size_t i = 0; i < mine_.size(); ++i) {
     std::copy(&x[3 * mine_local_[i]], &x[3 * mine_local_[i]] + 3, &rx[3 * mine_[i]]);
@@ -217,8 +216,8 @@ int PieceGhosts::evaluate(const ContactSurface& s, SurfaceContact& nodes, EdgeCo
 {
   search(s, st.x);
   // One call per step on every rank, candidates or not (the contacts' continuity counts calls).
-  int n = static_cast<int>(
-      nodes.resolve(s, st, s, st, true, dt, cand_.data(), cand_.size()).contacts);
+  int n =
+      static_cast<int>(nodes.resolve(s, st, s, st, true, dt, cand_.data(), cand_.size()).contacts);
   if (edges)
     n += edges->evaluate(s, st, s, st, true, dt,
                          [&](int e, int f) { return edge_pair_mine(s, e, f); });
