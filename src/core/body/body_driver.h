@@ -53,8 +53,9 @@ struct BodyHost {
   // surface boxes of a distributed body, exchanged when the host re-neighbours.
   std::function<std::vector<double>(const std::vector<double>&)> all_gather;
   // One message to each rank of `to` (out[k]) and one from each rank of `from` (in[k], any
-  // length): the facet ghosts of a distributed body (round 0) and the forces back (round 1). Both
-  // sides list each other; no collective.
+  // length): the facet ghosts of a distributed body (round 0) and the forces back (round 1), its
+  // pieces' surface nodes (round 2) and their forces back (round 3). Both sides list each other;
+  // no collective.
   std::function<void(int round, const std::vector<int>& to,
                      const std::vector<std::vector<double>>& out, const std::vector<int>& from,
                      std::vector<std::vector<double>>& in)>
