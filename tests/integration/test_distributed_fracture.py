@@ -27,88 +27,34 @@ apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel dis
 import glob
 import os
 import re
-import shutil
 import sys
-import tempfile
 
 import numpy as np
 
+import distributed_scenes as ds
 import harness as h
 
 args = h.parse_args()
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
-from fracdem import fem, meshgen  # noqa: E402
+from fracdem import fem  # noqa: E402
 
 MASS, SPEED = 2400 * 0.16 * 0.04 * 0.04, 5.0
-TOL = 1e-10
 RESTART_AT = 500  # after the first cuts, before the last (the min_size run's)
 
 
-def tet_bar(path):
-    """in.fracture_cut_3d's bar (test_fracture_cut.tet_bar, meshgen.sheared_tet_bar)."""
-    meshgen.write_gmsh22(path, *meshgen.sheared_tet_bar())
-
-
-def result(wd, out, energy="energy.csv"):
-    with open(os.path.join(wd, "log.liggghts")) as f:
-        log = f.read()
-    events = [ln for ln in log.splitlines()
-              if re.search(r"crack at node|crack through element|fragments, masses|eroded", ln)]
-    blocks = h.thermo_blocks(out)
-    rows = [r for _, rs in blocks for r in rs]
-    return dict(wd=wd, out=out, events=events, energy=h.read_csv(os.path.join(wd, energy)),
-                thermo=(blocks[-1][0], rows))
-
-
 def run(np_, parallel, frac, steps, balls=0, restart_at=0, vtk=0):
-    wd = tempfile.mkdtemp(prefix=f"distributed_fracture_{np_}_")
-    tet_bar(os.path.join(wd, "bar3d.msh"))
-    h.copy_inputs(["in.distributed_fracture", "in.distributed_fracture_continue"], wd)
-    out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
-                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "steps": steps,
-                           "speed": SPEED, "balls": balls, "restart_at": restart_at,
-                           "vtk": vtk})
-    return result(wd, out)
+    return ds.run_bar(args.exe, np_, parallel, frac, steps, balls=balls, restart_at=restart_at,
+                      vtk=vtk)
 
 
 def resume(wd, np_, parallel, frac, rest):
-    """in.distributed_fracture_continue in a copy of wd (its restart file and mesh)."""
-    wd2 = tempfile.mkdtemp(prefix=f"distributed_fracture_continue_{np_}_")
-    for f in ("bar.restart", "bar3d.msh", "in.distributed_fracture_continue"):
-        shutil.copy(os.path.join(wd, f), wd2)
-    out = h.run(args.exe, "in.distributed_fracture_continue", np_=np_, workdir=wd2,
-                variables={"frac": frac, "parallel": parallel, "dt": 2e-7, "rest": rest,
-                           "speed": SPEED})
-    return result(wd2, out, "energy_continued.csv")
-
-
-def worst_thermo(a, b):
-    """Rows of b matched to a's by step (b may be a continued run's)."""
-    (ha, ra), (hb, rb) = a, b
-    by_step = {r[0]: r for r in ra}
-    if ha != hb or not rb or any(r[0] not in by_step for r in rb):
-        return float("inf"), "shape"
-    ra, rb = np.array([by_step[r[0]] for r in rb]), np.array(rb)
-    worst, name = 0.0, ""
-    for j, col in enumerate(ha):
-        scale = MASS * SPEED if col in ("body[13]", "body[14]", "body[15]") else \
-            max(np.max(np.abs(ra[:, j])), 1e-300)
-        w = float(np.max(np.abs(ra[:, j] - rb[:, j]))) / scale
-        if w > worst:
-            worst, name = w, col
-    return worst, name
+    return ds.resume_bar(args.exe, wd, np_, parallel, frac, rest)
 
 
 def compare(label, ref, other, after=-1):
-    """after: a continued run's first step (its events from there on)."""
-    events = [ln for ln in ref["events"] if int(re.search(r"step (\d+):", ln).group(1)) > after]
-    h.check(len(events) > 0 and other["events"] == events,
-            f"{label}: the same {len(events)} split / cut / fragment log lines")
-    w, col = h.worst_energy_by_step(ref["energy"], other["energy"])
-    h.check(w < TOL, f"{label}: energy file within {w:.1e} of each column's scale "
-                     f"(worst: {col}; tolerance {TOL:g})")
-    w, col = worst_thermo(ref["thermo"], other["thermo"])
-    h.check(w < TOL, f"{label}: thermo within {w:.1e} of each column's scale (worst: {col})")
+    """after: a continued run's first step (its events from there on); momenta scaled by the
+    bar's m v."""
+    ds.compare(label, ref, other, MASS * SPEED, after=after, need_events=True)
 
 
 # Boundary cracks: np 2, 3, 4 against np 1.

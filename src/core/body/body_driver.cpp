@@ -527,7 +527,7 @@ std::size_t BodyDriver::memory_bytes() const
            vector_bytes(surface_.reach);
   // A distributed body's surface replica (contact_bodies yes; empty otherwise).
   bytes += vector_bytes(surf_x_) + vector_bytes(surf_v_) + vector_bytes(surf_m_) +
-           vector_bytes(surf_f_) + vector_bytes(surf_buf_) + vector_bytes(surf_local_);
+           vector_bytes(surf_f_) + vector_bytes(surf_owned_);
   return static_cast<std::size_t>(static_cast<double>(body_.memory_bytes()) + bytes);
 }
 
@@ -1355,8 +1355,11 @@ std::vector<double> BodyDriver::distributed_body_record() const
 
 void BodyDriver::write_restart(std::FILE* fp) const
 {
-  // The pieces' contacts are spread over the ranks' parts of the scene: gathered (every rank).
+  // The pieces' contacts are spread over the ranks' parts of the scene, or over the parts of a
+  // distributed body: gathered (every rank; where they are changes, not what they are).
   if (scene_ && scene_->size() > scene_index_) scene_->gather_self_state(scene_index_);
+  if (distributed_ && spec_->contact_bodies > 0)
+    const_cast<BodyDriver*>(this)->gather_piece_state();
   if (!distributed_ && host_.rank != 0) return; // a replicated body: rank 0 holds it all
   const std::vector<double> buf = restart_record();
   if (host_.rank != 0) return;
@@ -1501,6 +1504,7 @@ void BodyDriver::read_restart(const double* record)
     } catch (const std::exception& e) {
       fail(prefix() + e.what());
     }
+    piece_state_spread_ = false; // every rank read the same
   }
   restarted_ = true;
 }

@@ -18,6 +18,7 @@
 #include "body/body_spec.h"
 #include "body/facet_ghosts.h"
 #include "body/part_restart.h"
+#include "body/piece_ghosts.h"
 #include "fracture/nodal_fracture.h"
 
 namespace fracdem
@@ -52,8 +53,9 @@ struct BodyHost {
   // surface boxes of a distributed body, exchanged when the host re-neighbours.
   std::function<std::vector<double>(const std::vector<double>&)> all_gather;
   // One message to each rank of `to` (out[k]) and one from each rank of `from` (in[k], any
-  // length): the facet ghosts of a distributed body (round 0) and the forces back (round 1). Both
-  // sides list each other; no collective.
+  // length): the facet ghosts of a distributed body (round 0) and the forces back (round 1), its
+  // pieces' surface nodes (round 2) and their forces back (round 3). Both sides list each other;
+  // no collective.
   std::function<void(int round, const std::vector<int>& to,
                      const std::vector<std::vector<double>>& out, const std::vector<int>& from,
                      std::vector<std::vector<double>>& in)>
@@ -126,7 +128,7 @@ public:
   void begin_step(double dt);
   // The host re-neighboured (particles may have changed rank): a distributed body exchanges its
   // ranks' particle and surface boxes at the next force evaluation (every rank, same step).
-  void particles_regrouped() { boxes_due_ = true; }
+  void particles_regrouped() { boxes_due_ = piece_boxes_due_ = true; }
   // Internal forces (erosion, inverted elements), body-body and particle contact (particles:
   // nullptr without particle contact), the reductions, the checks; count_work: not in set-up.
   void compute_forces(const ParticleArrays* particles, std::int64_t step, double dt,
@@ -237,12 +239,14 @@ private:
   std::vector<double> pack_part_erosion() const;
   void renew_surface_after_erosion(const std::vector<int>& eroded);
   void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
-  // The contact of a distributed body's pieces (body_self_contact.cpp): the whole surface's
-  // state all-reduced each host step into a surface replica, the scene as for a replicated body,
-  // the forces all-reduced back to the nodes' owners.
+  // The contact of a distributed body's pieces (body_self_contact.cpp): the partner parts'
+  // surface nodes by neighbour messages each host step into a surface replica, each contact
+  // evaluated on one rank, the forces of other parts' nodes sent back (piece_ghosts.h).
   void build_part_surface();
   std::vector<double> free_surface_nodes() const;
   void distributed_body_contacts(std::int64_t step, double dt);
+  void gather_piece_state();
+  std::string piece_travel_text(double travel) const;
   double distributed_vector_entry(int i);
   void build_distributed(Mesh& whole);
   // A distributed body that breaks (body_breaking.cpp): the fracture check on the whole body
@@ -311,14 +315,18 @@ private:
   std::vector<std::vector<double>> ghost_out_, ghost_in_, ghost_back_, ghost_returned_;
   ParticleFacetContact contact_;
   ContactSurface surface_; // a distributed body's: the whole surface in global node numbers
-  // A distributed body's surface replica (contact_bodies yes): per surface node its index in the
-  // part (-1: not the part's) and whether the part owns it; positions, velocities, masses and
-  // contact forces by global node number (only surface nodes used); renewed at the next
-  // evaluation after a topology change (every rank alike).
+  // A distributed body's surface replica (contact_bodies yes): per surface node whether the part
+  // owns it (its node-to-facet contacts are this rank's); positions, velocities, masses and
+  // contact forces by global node number (only the part's and its partners' surface nodes
+  // used); renewed at the next evaluation after a topology change (every rank alike). The
+  // neighbour exchange, its boxes (due with the particles' and after a topology change), its
+  // messages; whether the contact state is spread over the ranks (each rank's contacts only).
   bool part_surface_due_ = true;
-  std::vector<int> surf_local_;
   std::vector<char> surf_owned_;
-  std::vector<double> surf_x_, surf_v_, surf_m_, surf_f_, surf_buf_;
+  std::vector<double> surf_x_, surf_v_, surf_m_, surf_f_;
+  PieceGhosts pieces_;
+  bool piece_boxes_due_ = true, piece_state_spread_ = false, warned_piece_travel_ = false;
+  std::vector<std::vector<double>> piece_out_, piece_in_, piece_back_, piece_returned_;
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
   // Body-body contact: the scene (owned by the first body, which lists the members, configures

@@ -1,9 +1,10 @@
-// BodyDriver's contact of a distributed body's own pieces: a replica of the whole surface's state
-// on every rank, all-reduced each host step, and the contact scene run on it as for a replicated
-// body (docs/distributed_bodies.md, "Contact of the pieces").
+// BodyDriver's contact of a distributed body's own pieces: the whole surface's topology on every
+// rank, the state of the partner parts' surface nodes by neighbour messages each host step
+// (body/piece_ghosts.h; docs/distributed_bodies.md, "Contact of the pieces").
 #include "body/body_driver.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace fracdem
 {
@@ -50,10 +51,12 @@ std::vector<double> BodyDriver::free_surface_nodes() const
 // free nodes (free_surface_nodes) and the surface nodes' masses from their owners. Entered by
 // every rank at the first evaluation after a topology change: two all-reductions of one double
 // per facet and per surface node (and, for a body that can erode, a gather and a scatter of the
-// free nodes).
+// free nodes), after the contact state's gathering (gather_piece_state); the surface boxes are
+// exchanged next.
 void BodyDriver::build_part_surface()
 {
   part_surface_due_ = false;
+  gather_piece_state(); // the evaluating ranks may change with the parts
   const GlobalSurface& whole = ghosts_.surface();
   const int ng = global_nodes_;
   const std::vector<int> local_node = inverse(part_.global_node, ng);
@@ -84,71 +87,98 @@ void BodyDriver::build_part_surface()
   std::sort(free.begin(), free.end());
   surface_.build(whole.facets, reach, X.data(), ng, free);
   const std::vector<int>& nodes = surface_.nodes;
-  surf_local_.assign(nodes.size(), -1);
   surf_owned_.assign(nodes.size(), 0);
   std::vector<double> m(nodes.size(), 0.0);
   for (size_t s = 0; s < nodes.size(); ++s) {
     const int n = local_node[nodes[s]];
-    surf_local_[s] = n;
     surf_owned_[s] = n >= 0 && part_.owns(n) ? 1 : 0;
     if (surf_owned_[s]) m[s] = body_.masses()[n];
   }
   host_.sum(m.data(), static_cast<int>(m.size()));
-  surf_x_.assign(3 * static_cast<size_t>(ng), 0.0);
+  // Nodes not known this step sit at their last known position (at first: their reference one,
+  // so that the edge contact's search over the whole surface finds few pairs among them).
+  surf_x_ = std::move(X);
   surf_v_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_f_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_m_.assign(ng, 0.0);
   for (size_t s = 0; s < nodes.size(); ++s)
     surf_m_[nodes[s]] = m[s];
+  pieces_.init(surface_, whole.part, part_);
+  piece_boxes_due_ = true;
 }
 
-// Each host step: every part gives the positions and velocities of the surface nodes it owns, one
-// all-reduction (6 doubles per surface node) gives every rank the whole surface, the scene
-// (search, the contact work's partition over the ranks, node-to-facet / edge contact, their
-// states) runs on it as on a replicated body, and a second all-reduction (3 doubles per surface
-// node) brings every contact force to the node's owner, whose shared-node sum follows.
-void BodyDriver::distributed_body_contacts(std::int64_t step, double dt)
+// Every rank gets the pieces' whole contact state, each contact's from the rank that evaluated
+// it (node to facet: the node's owner; edge pairs: the ranks' records gathered on rank 0 and
+// sent back): before the parts change (build_part_surface) and before a restart record is
+// written. Entered by every rank; nothing to do while every rank holds the same state (set-up,
+// a restart read, the last gathering).
+void BodyDriver::gather_piece_state()
+{
+  if (!piece_state_spread_) return;
+  piece_state_spread_ = false;
+  const std::vector<int>& nodes = surface_.nodes;
+  std::vector<double> buf(3 * nodes.size());
+  self_contact_.export_state(
+      nodes, [&](size_t s) { return surf_owned_[s] != 0; }, buf.data());
+  host_.sum(buf.data(), static_cast<int>(buf.size()));
+  self_contact_.import_state(nodes, buf.data());
+  if (!spec_->contact_edges) return;
+  std::vector<double> pairs;
+  self_edges_.pack_state(pairs);
+  pairs = host_.gather ? host_.gather(pairs) : pairs;
+  pairs = host_.scatter ? host_.scatter([&](int) { return pairs; }) : pairs;
+  try {
+    self_edges_.unpack_state(pairs.data(), pairs.size());
+  } catch (const std::exception& e) {
+    fail(prefix() + e.what());
+  }
+}
+
+// Each host step, no collective: the part's surface nodes' positions and velocities to the
+// partner parts (those whose surface boxes met this one's at the last exchange: when the host
+// re-neighboured or the parts changed), theirs received into the replica, this rank's contacts
+// evaluated (piece_ghosts.h: node to facet on the node's owner, edge pairs on the part of the
+// lower edge's first facet), the forces of other parts' nodes sent back to them; the shared-node
+// sum of the contact forces follows (distributed_forces).
+void BodyDriver::distributed_body_contacts(std::int64_t, double dt)
 {
   if (part_surface_due_) build_part_surface();
-  const std::vector<int>& nodes = surface_.nodes;
-  const size_t ns = nodes.size();
   const double* x = body_.positions().data();
   const double* v = body_.velocities().data();
-  surf_buf_.assign(6 * ns, 0.0);
-  for (size_t s = 0; s < ns; ++s)
-    if (surf_owned_[s]) {
-      const int n = surf_local_[s];
-      std::copy(&x[3 * n], &x[3 * n] + 3, &surf_buf_[6 * s]);
-      std::copy(&v[3 * n], &v[3 * n] + 3, &surf_buf_[6 * s + 3]);
-    }
-  host_.sum(surf_buf_.data(), static_cast<int>(6 * ns));
-  for (size_t s = 0; s < ns; ++s) {
-    const int g = nodes[s];
-    std::copy(&surf_buf_[6 * s], &surf_buf_[6 * s] + 3, &surf_x_[3 * g]);
-    std::copy(&surf_buf_[6 * s + 3], &surf_buf_[6 * s + 3] + 3, &surf_v_[3 * g]);
-    std::fill(&surf_f_[3 * g], &surf_f_[3 * g] + 3, 0.0);
+  // The search buffer as the host resolved it (by default its neighbour skin).
+  const double travel = std::max({contact_.options().buffer, spec_->buffer, 0.0});
+  if (piece_boxes_due_) {
+    const std::vector<double> box = pieces_.local_box(x, travel + surface_.max_reach);
+    pieces_.set_boxes(host_.all_gather ? host_.all_gather(box) : box);
+    piece_boxes_due_ = false;
+  } else if (!warned_piece_travel_ && pieces_.moved_beyond(x, travel)) {
+    warned_piece_travel_ = true;
+    host_.warning(prefix() + piece_travel_text(travel));
   }
+  const std::vector<int>& partners = pieces_.partners();
+  pieces_.outgoing(x, v, piece_out_);
+  if (!partners.empty()) host_.exchange(2, partners, piece_out_, partners, piece_in_);
+  pieces_.take(piece_in_, x, v, surf_x_.data(), surf_v_.data(), surf_f_.data());
   ContactBodyState me{surf_x_.data(), surf_v_.data(), surf_m_.data(), surf_f_.data()};
-  if (scene_) {
-    if (scene_owner_->scene_pending_) scene_owner_->configure_scene();
-    try {
-      scene_->evaluate_body(scene_index_, {me}, step, dt);
-    } catch (const std::runtime_error& e) {
-      fail(prefix() + e.what());
-    }
-  } else if (host_.rank == 0) { // no set_partners (unit tests): rank 0 takes every node
-    self_contact_.evaluate(surface_, me, surface_, me, true, dt);
-    if (spec_->contact_edges) self_edges_.evaluate(surface_, me, surface_, me, true, dt);
-  }
-  surf_buf_.resize(3 * ns);
-  for (size_t s = 0; s < ns; ++s)
-    std::copy(&surf_f_[3 * nodes[s]], &surf_f_[3 * nodes[s]] + 3, &surf_buf_[3 * s]);
-  host_.sum(surf_buf_.data(), static_cast<int>(3 * ns));
-  double* f = body_.contact_forces();
-  for (size_t s = 0; s < ns; ++s)
-    if (surf_owned_[s])
-      for (int d = 0; d < 3; ++d)
-        f[3 * surf_local_[s] + d] += surf_buf_[3 * s + d];
+  pieces_.evaluate(surface_, self_contact_, spec_->contact_edges ? &self_edges_ : nullptr, me, dt);
+  piece_state_spread_ = true;
+  pieces_.forces_back(surf_f_.data(), body_.contact_forces(), piece_back_);
+  if (!partners.empty()) host_.exchange(3, partners, piece_back_, partners, piece_returned_);
+  pieces_.add_returned(piece_returned_, body_.contact_forces());
+}
+
+std::string BodyDriver::piece_travel_text(double travel) const
+{
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "keyword 'parallel distributed': the surface of part %d has moved more than "
+                "'buffer' %g since the parts' surface boxes were exchanged (when the host last "
+                "re-neighboured or the parts changed): contacts of the body's pieces with parts "
+                "that were out of reach then are not seen until the next exchange; raise "
+                "'buffer' or re-neighbour more often ('neigh_modify every N check no' "
+                "re-neighbours every N steps without moving particles)",
+                part_.part, travel);
+  return text;
 }
 
 } // namespace fracdem

@@ -277,7 +277,8 @@ void EdgeContact::apply(const EdgeTouch& t, const ContactSurface& a, const Conta
 }
 
 int EdgeContact::evaluate(const ContactSurface& a, const ContactBodyState& sa,
-                          const ContactSurface& b, const ContactBodyState& sb, bool self, double dt)
+                          const ContactSurface& b, const ContactBodyState& sb, bool self, double dt,
+                          const std::function<bool(int, int)>& keep)
 {
   touches_.clear();
   next_.clear();
@@ -294,6 +295,7 @@ int EdgeContact::evaluate(const ContactSurface& a, const ContactBodyState& sa,
       });
   }
   for (const auto& c : search_.candidates()) {
+    if (keep && !keep(feat_a_[c.first], feat_b_[c.second])) continue;
     EdgeTouch t;
     if (!edge_touch(a, feat_a_[c.first], sa.x, b, feat_b_[c.second], sb.x, t)) continue;
     const SurfaceEdge& E = a.edges[t.ea];

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -69,9 +70,12 @@ public:
   // After any topology change of either side: the search starts afresh.
   void invalidate() { stale_ = true; }
   // Adds the edge contact forces between a's and b's feature edges (self: the same surface,
-  // a = b). Returns the number of contacts.
+  // a = b). keep (edge of a, edge of b), when given, picks the candidate pairs this caller
+  // evaluates (a distributed body's pieces: each pair on one rank, body/piece_ghosts.h); the
+  // state then holds those pairs only. Returns the number of contacts.
   int evaluate(const ContactSurface& a, const ContactBodyState& sa, const ContactSurface& b,
-               const ContactBodyState& sb, bool self, double dt);
+               const ContactBodyState& sb, bool self, double dt,
+               const std::function<bool(int, int)>& keep = nullptr);
   // Contacts of the last evaluation (tests).
   const std::vector<EdgeTouch>& touches() const { return touches_; }
   // Candidate pairs of the search in use, (edge of a, edge of b) (tests).
