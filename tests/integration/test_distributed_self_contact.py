@@ -25,9 +25,10 @@ pieces (node to facet, edge to edge) gives the same run at 1, 2, 3 and 4 ranks (
   node among the contacting nodes after the last batch).
 * Cost, with the PMPI counter at np 3 (difference of two run lengths, blocks in contact, FE only:
   no re-neighbouring in between): no collective from the pieces' contact (BodyDriver::
-  distributed_body_contacts: neighbour messages, body/piece_ghosts.h), two messages per partner
-  and step, at most 9 doubles per surface node plus one per message. With a buffer below the
-  blocks' travel, the travel is warned about and the run is the same (the parts stay partners).
+  distributed_body_contacts: neighbour messages, body/piece_ghosts.h) but one integer reduction
+  per host step (the travel flag), two messages per partner and step, at most 9 doubles per
+  surface node plus one per message. Blocks 12 mm apart (out of each other's reach at set-up,
+  buffer 1e-5) collide at np 2 distributed as at np 1: the travel flag renews the parts' boxes.
 * A distributed body in contact with another `contact_bodies yes` body is refused by name.
 """
 import os
@@ -69,13 +70,13 @@ def blocks_2d(path):
                          {"a": edges(E), "b": edges(E + len(X))})
 
 
-def blocks(path):
-    """Two 4 x 4 x 4-cell tet blocks of 40 mm, the second 0.2 mm further along x and offset by
-    6 mm / 4 mm across; groups a and b: every tet's faces of each (so every node)."""
+def blocks(path, gap=0.0002):
+    """Two 4 x 4 x 4-cell tet blocks of 40 mm, the second `gap` (0.2 mm) further along x and
+    offset by 6 mm / 4 mm across; groups a and b: every tet's faces of each (so every node)."""
     X, E, _ = meshgen.box_tet_mesh(4, 4, 4, 0.04, 0.04, 0.04)
     X = np.array(X, dtype=float)
     E = np.array(E)
-    Y = X + np.array([0.0402, 0.006, 0.004])
+    Y = X + np.array([0.04 + gap, 0.006, 0.004])
     nodes = np.vstack([X, Y])
     tets = np.vstack([E, E + len(X)])
 
@@ -85,13 +86,17 @@ def blocks(path):
     meshgen.write_gmsh22(path, nodes, tets, {"a": faces(E), "b": faces(E + len(X))})
 
 
-def run_blocks(np_, parallel, steps=BLOCK_STEPS, other=0, expect_fail=False, dim=3, **more):
+def run_blocks(np_, parallel, steps=BLOCK_STEPS, other=0, expect_fail=False, dim=3, gap=0.0002,
+               speed=SPEED, **more):
     wd = tempfile.mkdtemp(prefix=f"distributed_self_contact_{np_}_")
-    (blocks if dim == 3 else blocks_2d)(os.path.join(wd, "blocks.msh"))
+    if dim == 3:
+        blocks(os.path.join(wd, "blocks.msh"), gap)
+    else:
+        blocks_2d(os.path.join(wd, "blocks.msh"))
     h.copy_inputs(["in.distributed_self_contact"], wd)
     out = h.run(args.exe, "in.distributed_self_contact", np_=np_, workdir=wd,
                 variables=dict({"parallel": parallel, "dt": 2e-7, "steps": steps,
-                                "speed": SPEED, "other": other, "dim": dim}, **more),
+                                "speed": speed, "other": other, "dim": dim}, **more),
                 expect_fail=expect_fail)
     return out if expect_fail else ds.result(wd, out)
 
@@ -238,7 +243,7 @@ def counted(steps):
 short_text, short = counted(100)
 long_text, long_ = counted(200)
 for d in mpicount.difference(long_, short):
-    restep, output, sends, nbytes, other = 0, 0, 0, 0, []
+    restep, travel, output, sends, nbytes, other = 0, 0, 0, 0, 0, []
     for (module, caller, func, cat), (count, nb) in d["sites"].items():
         if not count or "fracdem::" not in caller:
             continue  # the host's own (its neighbour check, thermo)
@@ -250,22 +255,32 @@ for d in mpicount.difference(long_, short):
             output += count  # output: the energy file's and the thermo's sums over the parts
         elif "check_squeezed" in caller and func == "MPI_Allreduce":
             restep += count
+        elif "distributed_forces" in caller and func == "MPI_Allreduce" and nb <= 4 * count:
+            travel += count  # the pieces' travel flag: one integer per host step
         else:
             other.append(f"{count} x {func} in {caller}")
     k = sends / 200
-    h.check(restep == 1 and not other and k in (1, 2) and nbytes / 100 <= 8 * k * (9 * S + 1),
-            f"rank {d['rank']}: in 100 steps no collective of the pieces' contact (other "
+    h.check(restep == 1 and travel == 100 and not other and k in (1, 2)
+            and nbytes / 100 <= 8 * k * (9 * S + 1),
+            f"rank {d['rank']}: in 100 steps no collective of the pieces' contact but the travel "
+            f"flag's {travel} one-integer reductions (other "
             f"collectives: {'; '.join(other) or 'none'}; {restep} stable-step re-estimate, "
             f"{output} output sums), {sends} messages ({k:g} partners, 2 per step each), "
             f"{nbytes / 100:.0f} bytes per step (bound 8 k (9 S + 1) = {8 * k * (9 * S + 1):.0f}, "
             f"S = {S})")
 
-# A buffer below the blocks' travel: the parts' surfaces leave their boxes and each rank warns
-# once (the two blocks are the two parts and stay partners, so the run is the same).
-small = run_blocks(2, "distributed", buffer=1e-5)
-h.check("has moved more than 'buffer' 1e-05 since the parts' surface boxes were exchanged" in
-        small["out"], "buffer 1e-5 at np 2: the travel beyond the buffer is warned about")
-compare("blocks, np 2 distributed, buffer 1e-5", ref, small, BLOCKS_MV)
+# Parts out of each other's reach at set-up: the blocks 12 mm apart (their boxes, grown by the
+# buffer 1e-5 and the facets' reach of at most 5 mm, half a tet's altitude, do not meet), closing at 50 m/s in an
+# FE-only run (the host never re-neighbours). At np 2 the blocks are the two parts. Once a part's
+# surface leaves its box the travel flag (one integer reduction per host step) renews the boxes,
+# the parts become partners before they touch, and the collision is the replicated run's.
+FAR = dict(gap=0.012, speed=25.0, steps=1400, buffer=1e-5)
+far_ref = run_blocks(1, "replicated", **FAR)
+far_work = np.max(np.abs(far_ref["energy"]["contact_work"]))
+h.check(far_work > 0.01 * far_ref["energy"]["kinetic"][0],
+        f"blocks 12 mm apart collide within the run (contact work {far_work:.3g} J)")
+compare("blocks 12 mm apart, np 2 distributed, buffer 1e-5", far_ref,
+        run_blocks(2, "distributed", **FAR), 2 * 2400 * 0.04**3 * FAR["speed"])
 
 out = run_blocks(2, "distributed", steps=1, other=1, expect_fail=True)
 h.check("'parallel distributed' with 'contact_bodies yes' takes the contact of its own pieces "

@@ -671,12 +671,12 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
 
 // parallel distributed: the part's internal forces, summed at shared nodes with the neighbouring
 // parts (one message each, no collective), the contact of its pieces (contact_bodies yes:
-// body_self_contact.cpp, two all-reductions) and of particles (facet ghosts by boxes,
-// body_ghost_contact.cpp), once per host step. A body that erodes erodes its part's elements here
-// and, at the host step's last evaluation (last), before the contact, takes the follow-up of
-// every part's erosions (body_erosion.cpp: one integer reduction). Otherwise a rank that finds an
-// inverted element or a NaN stops the run by itself (no per-step reduction to find out). dt: the
-// host step.
+// body_self_contact.cpp, neighbour messages and one integer reduction) and of particles (facet
+// ghosts by boxes, body_ghost_contact.cpp), once per host step. A body that erodes erodes its
+// part's elements here and, at the host step's last evaluation (last), before the contact, takes
+// the follow-up of every part's erosions (body_erosion.cpp: one integer reduction). Otherwise a
+// rank that finds an inverted element or a NaN stops the run by itself (no per-step reduction to
+// find out). dt: the host step.
 void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
                                     bool count_work, bool last)
 {
@@ -688,9 +688,16 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
     sum_forces_and_masses();
   else
     shared_sum_(body_.forces_data(), 3);
-  if (can_erode() && last) distributed_erosion(step, dt);
-  // Contact forces: each node's on one part (pieces, then particles), then summed once.
+  // The pieces' travel flag (body_self_contact.cpp): on the erosion's integer reduction where
+  // the body takes one, else one of its own (one integer per host step).
   const bool pieces = last && spec_->contact_bodies > 0;
+  int moved = pieces ? piece_moved() : 0;
+  if (can_erode() && last)
+    distributed_erosion(step, dt, moved);
+  else if (pieces)
+    host_.max_int(&moved, 1);
+  if (moved) piece_boxes_due_ = true;
+  // Contact forces: each node's on one part (pieces, then particles), then summed once.
   if (pieces) distributed_body_contacts(step, dt);
   if (particles) distributed_contact(*particles, step, dt);
   if (pieces || particles) shared_sum_(body_.contact_forces(), 3);

@@ -235,7 +235,7 @@ private:
   // and, after an erosion, rank 0 logs it, the stable step follows and the surface is renewed.
   double erode_part(double energy, int& first_inverted, bool last);
   void sum_forces_and_masses();
-  void distributed_erosion(std::int64_t step, double dt);
+  void distributed_erosion(std::int64_t step, double dt, int& piece_moved);
   std::vector<double> pack_part_erosion() const;
   void renew_surface_after_erosion(const std::vector<int>& eroded);
   void distributed_contact(const ParticleArrays& particles, std::int64_t step, double dt);
@@ -246,7 +246,8 @@ private:
   std::vector<double> free_surface_nodes() const;
   void distributed_body_contacts(std::int64_t step, double dt);
   void gather_piece_state();
-  std::string piece_travel_text(double travel) const;
+  double piece_travel() const;
+  int piece_moved() const;
   double distributed_vector_entry(int i);
   void build_distributed(Mesh& whole);
   // A distributed body that breaks (body_breaking.cpp): the fracture check on the whole body
@@ -325,7 +326,7 @@ private:
   std::vector<char> surf_owned_;
   std::vector<double> surf_x_, surf_v_, surf_m_, surf_f_;
   PieceGhosts pieces_;
-  bool piece_boxes_due_ = true, piece_state_spread_ = false, warned_piece_travel_ = false;
+  bool piece_boxes_due_ = true, piece_state_spread_ = false;
   std::vector<std::vector<double>> piece_out_, piece_in_, piece_back_, piece_returned_;
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)

@@ -105,14 +105,17 @@ void BodyDriver::sum_forces_and_masses()
 // flag per evaluation) says where any part eroded; after an erosion, the stable steps there (one
 // min-reduction), every part's erosions on rank 0 (gather), which logs them as the replicated body
 // does and sends every rank the whole body's new surface; then every rank follows the stable step
-// in the order of the evaluations, as the replicated body did after each batch.
-void BodyDriver::distributed_erosion(std::int64_t step, double dt)
+// in the order of the evaluations, as the replicated body did after each batch. piece_moved (the
+// pieces' travel flag, body_self_contact.cpp) rides on the same reduction and comes back reduced.
+void BodyDriver::distributed_erosion(std::int64_t step, double dt, int& piece_moved)
 {
   const int n = fe_count_ + 1;
-  std::vector<int> flags(n, 0);
+  std::vector<int> flags(n + 1, 0);
   for (const PartErosion& ev : part_erosion_)
     flags[ev.fe] = 1;
-  host_.max_int(flags.data(), n);
+  flags[n] = piece_moved;
+  host_.max_int(flags.data(), n + 1);
+  piece_moved = flags[n];
   std::vector<int> at;
   for (int k = 0; k < n; ++k)
     if (flags[k]) at.push_back(k);

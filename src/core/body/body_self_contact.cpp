@@ -134,26 +134,21 @@ void BodyDriver::gather_piece_state()
   }
 }
 
-// Each host step, no collective: the part's surface nodes' positions and velocities to the
-// partner parts (those whose surface boxes met this one's at the last exchange: when the host
-// re-neighboured or the parts changed), theirs received into the replica, this rank's contacts
-// evaluated (piece_ghosts.h: node to facet on the node's owner, edge pairs on the part of the
-// lower edge's first facet), the forces of other parts' nodes sent back to them; the shared-node
-// sum of the contact forces follows (distributed_forces).
+// Each host step, no collective here: the part's surface nodes' positions and velocities to the
+// partner parts (those whose surface boxes met this one's at the last exchange: set-up, a
+// topology change, a host re-neighbouring, or a part's surface leaving its box), theirs received
+// into the replica, this rank's contacts evaluated (piece_ghosts.h: node to facet on the node's
+// owner, edge pairs on the part of the lower edge's first facet), the forces of other parts' nodes
+// sent back to them; the shared-node sum of the contact forces follows (distributed_forces).
 void BodyDriver::distributed_body_contacts(std::int64_t, double dt)
 {
   if (part_surface_due_) build_part_surface();
   const double* x = body_.positions().data();
   const double* v = body_.velocities().data();
-  // The search buffer as the host resolved it (by default its neighbour skin).
-  const double travel = std::max({contact_.options().buffer, spec_->buffer, 0.0});
   if (piece_boxes_due_) {
-    const std::vector<double> box = pieces_.local_box(x, travel + surface_.max_reach);
+    const std::vector<double> box = pieces_.local_box(x, piece_travel() + surface_.max_reach);
     pieces_.set_boxes(host_.all_gather ? host_.all_gather(box) : box);
     piece_boxes_due_ = false;
-  } else if (!warned_piece_travel_ && pieces_.moved_beyond(x, travel)) {
-    warned_piece_travel_ = true;
-    host_.warning(prefix() + piece_travel_text(travel));
   }
   const std::vector<int>& partners = pieces_.partners();
   pieces_.outgoing(x, v, piece_out_);
@@ -167,18 +162,21 @@ void BodyDriver::distributed_body_contacts(std::int64_t, double dt)
   pieces_.add_returned(piece_returned_, body_.contact_forces());
 }
 
-std::string BodyDriver::piece_travel_text(double travel) const
+// The search buffer as the host resolved it (by default its neighbour skin): how far a part's
+// surface may move between two exchanges of the parts' boxes.
+double BodyDriver::piece_travel() const
 {
-  char text[640];
-  std::snprintf(text, sizeof text,
-                "keyword 'parallel distributed': the surface of part %d has moved more than "
-                "'buffer' %g since the parts' surface boxes were exchanged (when the host last "
-                "re-neighboured or the parts changed): contacts of the body's pieces with parts "
-                "that were out of reach then are not seen until the next exchange; raise "
-                "'buffer' or re-neighbour more often ('neigh_modify every N check no' "
-                "re-neighbours every N steps without moving particles)",
-                part_.part, travel);
-  return text;
+  return std::max({contact_.options().buffer, spec_->buffer, 0.0});
+}
+
+// 1 when this part's surface has left its box (grown by the buffer) since the boxes were
+// exchanged, so a part out of reach then may be in reach now. The caller max-reduces it and
+// renews every part's box at this step's contact: no pair within reach is missed, whether the
+// host re-neighbours or not (an FE-only run never does).
+int BodyDriver::piece_moved() const
+{
+  if (piece_boxes_due_ || part_surface_due_) return 0; // renewed at this step's contact anyway
+  return pieces_.moved_beyond(body_.positions().data(), piece_travel()) ? 1 : 0;
 }
 
 } // namespace fracdem

@@ -629,7 +629,8 @@ const char* distributed_refusal(const BodySpec& s)
   return s.rigid ? "'rigid yes'" : nullptr;
 }
 
-// The contact of a distributed body's pieces costs two all-reductions of its surface per step
+// A distributed body that breaks or erodes is gathered on rank 0 at its changes (once cracked, at
+// every check), and its pieces' contact is not timed against the replicated one yet
 // (docs/distributed_bodies.md): taken when asked, not by size.
 const char* distributed_default_refusal(const BodySpec& s)
 {
