@@ -254,7 +254,6 @@ private:
   void adopt_part(const std::vector<double>& message);
   void count_whole(const Body& whole);
   void check_balance(std::int64_t step);
-  bool broken() const { return global_elems_ != mesh_elems_ || broken_; }
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
   void merge_part_erosion(std::int64_t step, const std::vector<double>& all,
