@@ -342,7 +342,8 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
            "one of them 'contact_bodies no', or this one 'parallel replicated'");
   // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
   // gathered first (the new scene starts without a partition).
-  if (scene_owned_ && scene_owned_->size() > 0 && members == scene_members_)
+  scene_continues_ = scene_owned_ && scene_owned_->size() > 0 && members == scene_members_;
+  if (scene_continues_)
     for (int m = 0; m < scene_owned_->size(); ++m)
       scene_owned_->gather_self_state(m);
   scene_owned_ = std::make_unique<ContactScene>();
@@ -976,6 +977,9 @@ bool BodyDriver::replays_body_contacts(bool count_work) const
 {
   if (count_work) return false;
   if (!scene_) return contacts_held_;
+  // Bodies in contact with each other: only where they are the last run's (a partner gone would
+  // still push; after a restart their pairs start afresh, docs/fix_fem_body.md).
+  if (scene_owner_->scene_members_.size() > 1 && !scene_owner_->scene_continues_) return false;
   for (const BodyDriver* m : scene_owner_->scene_members_)
     if (!m->contacts_held_) return false;
   return true;

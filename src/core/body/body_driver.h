@@ -347,6 +347,7 @@ private:
   int scene_index_ = -1;
   std::vector<BodyDriver*> scene_members_;
   bool scene_pending_ = false;
+  bool scene_continues_ = false; // its members are those of the last run
   std::function<double(int, int)> friction_;
   FailureMap failure_map_; // kept between checks: no allocation per check
   int last_fragments_ = 1;
