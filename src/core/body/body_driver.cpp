@@ -986,12 +986,13 @@ bool BodyDriver::replays_body_contacts(bool count_work) const
 }
 
 // After a counted evaluation, before particle contact adds to them: the contact forces of this
-// rank's surface nodes (a distributed body's part: of those it owns, which the evaluation gave
-// the summed forces), zero ones left out.
+// rank's surface nodes (a distributed body's part: of its nodes, before the sum over the parts
+// that share them, by global number), zero ones left out.
 void BodyDriver::hold_body_contacts()
 {
   held_nodes_.clear();
   held_forces_.clear();
+  held_whole_ = false;
   const double* f = body_.contact_forces();
   const auto hold = [&](int n, int key) {
     if (f[3 * n] == 0 && f[3 * n + 1] == 0 && f[3 * n + 2] == 0) return;
@@ -999,8 +1000,8 @@ void BodyDriver::hold_body_contacts()
     held_forces_.insert(held_forces_.end(), &f[3 * n], &f[3 * n] + 3);
   };
   if (distributed_) {
-    for (size_t s = 0; s < surf_local_.size(); ++s)
-      if (surf_owned_[s]) hold(surf_local_[s], surface_.nodes[s]);
+    for (int n = 0; n < part_.num_nodes(); ++n)
+      hold(n, part_.global_node[n]);
   } else {
     for (int n : surface_.nodes)
       hold(n, n);
@@ -1009,7 +1010,8 @@ void BodyDriver::hold_body_contacts()
 }
 
 // The held forces as the evaluation left them (begin_forces zeroed the contact forces, and no
-// other member adds to them at this set-up); a part takes those of the nodes it owns.
+// other member adds to them at this set-up). A part takes its own share back, or from a restart
+// record (the whole body's sums) those of the nodes it owns.
 void BodyDriver::replay_body_contacts()
 {
   if (scene_ && scene_owner_->scene_pending_) scene_owner_->configure_scene();
@@ -1017,7 +1019,8 @@ void BodyDriver::replay_body_contacts()
   if (distributed_) {
     local.assign(std::max(global_nodes_, 0), -1);
     for (int n = 0; n < part_.num_nodes(); ++n)
-      if (part_.owns(n) && part_.global_node[n] < global_nodes_) local[part_.global_node[n]] = n;
+      if ((!held_whole_ || part_.owns(n)) && part_.global_node[n] < global_nodes_)
+        local[part_.global_node[n]] = n;
   }
   double* f = body_.contact_forces();
   for (size_t k = 0; k < held_nodes_.size(); ++k) {
@@ -1031,24 +1034,30 @@ void BodyDriver::replay_body_contacts()
 }
 
 // For the restart record (every rank enters, with contact_bodies yes): (node, force) of the whole
-// body, the ranks' shares summed (a replicated body's, whose shares overlap) or gathered (a
-// distributed body's parts', each node's on its owner). Empty when none is held.
+// body, the ranks' shares summed (a distributed body's: gathered on rank 0, which writes the
+// record). Empty when none is held.
 std::vector<double> BodyDriver::held_body_contacts_record() const
 {
   if (spec_->contact_bodies <= 0) return {};
-  std::vector<double> mine;
-  if (distributed_) {
+  const int nodes = distributed_ ? global_nodes_ : body_.num_nodes();
+  std::vector<double> all(3 * static_cast<size_t>(std::max(nodes, 0)), 0.0), mine;
+  if (distributed_) { // the parts' shares in part order, summed at shared nodes on rank 0
     for (size_t k = 0; k < held_nodes_.size(); ++k) {
       mine.push_back(held_nodes_[k]);
       mine.insert(mine.end(), &held_forces_[3 * k], &held_forces_[3 * k] + 3);
     }
-    return host_.gather ? host_.gather(mine) : mine;
+    const std::vector<double> parts = host_.gather ? host_.gather(mine) : mine;
+    for (size_t k = 0; k + 3 < parts.size(); k += 4)
+      if (parts[k] >= 0 && parts[k] < nodes)
+        for (int d = 0; d < 3; ++d)
+          all[3 * static_cast<size_t>(parts[k]) + d] += parts[k + 1 + d];
+  } else {
+    for (size_t k = 0; k < held_nodes_.size(); ++k)
+      std::copy(&held_forces_[3 * k], &held_forces_[3 * k] + 3, &all[3 * held_nodes_[k]]);
+    if (host_.nprocs > 1) host_.sum(all.data(), static_cast<int>(all.size()));
   }
-  std::vector<double> all(3 * static_cast<size_t>(body_.num_nodes()), 0.0);
-  for (size_t k = 0; k < held_nodes_.size(); ++k)
-    std::copy(&held_forces_[3 * k], &held_forces_[3 * k] + 3, &all[3 * held_nodes_[k]]);
-  if (host_.nprocs > 1) host_.sum(all.data(), static_cast<int>(all.size()));
-  for (int n = 0; n < body_.num_nodes(); ++n)
+  mine.clear();
+  for (int n = 0; n < nodes; ++n)
     if (all[3 * n] != 0 || all[3 * n + 1] != 0 || all[3 * n + 2] != 0) {
       mine.push_back(n);
       mine.insert(mine.end(), &all[3 * n], &all[3 * n] + 3);
@@ -1063,6 +1072,7 @@ void BodyDriver::take_held_body_contacts(const double* list, size_t n)
 {
   held_nodes_.clear();
   held_forces_.clear();
+  held_whole_ = true;
   if (distributed_ || host_.rank == 0)
     for (size_t k = 0; k + 3 < n; k += 4) {
       held_nodes_.push_back(static_cast<int>(list[k]));

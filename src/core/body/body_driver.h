@@ -336,7 +336,7 @@ private:
   // replicated body holds them all, every part of a distributed one all, and takes its own).
   std::vector<int> held_nodes_;
   std::vector<double> held_forces_;
-  bool contacts_held_ = false;
+  bool contacts_held_ = false, held_whole_ = false; // whole: from a restart record
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
   // Body-body contact: the scene (owned by the first body, which lists the members, configures
