@@ -261,3 +261,19 @@ def same_text_rows(ref, got, first):
         if ref.get(s) != got[s]:
             return len(steps), s
     return len(steps), None
+
+
+def check_rows_as_uninterrupted(label, first, ref_out, got_out, ref_energy=None, got_energy=None):
+    """Checks that a continued run's thermo rows (got_out's last block) and, where given, its
+    energy-file rows (path got_energy) from step `first` on are the uninterrupted run's (ref_out,
+    ref_energy) byte for byte; the first differing row is shown."""
+    pairs = [("thermo", thermo_text_rows(ref_out), thermo_text_rows(got_out))]
+    if ref_energy:
+        pairs.append(("energy file", energy_text_rows(ref_energy), energy_text_rows(got_energy)))
+    for what, ref_rows, got_rows in pairs:
+        n, differs = same_text_rows(ref_rows, got_rows, first)
+        check(n > 1 and differs is None,
+              f"{label}: {n} {what} rows from step {first} on as the uninterrupted run's, byte "
+              f"for byte" + ("" if differs is None else f" (step {differs} differs:\n  "
+                                                         f"{ref_rows.get(differs)}\n  "
+                                                         f"{got_rows[differs]})"))

@@ -190,16 +190,10 @@ for np_, parallel in ((2, "distributed"), (1, "replicated")):
 # At the rank count that wrote it each rank takes its part back as it was: the continued run is
 # the uninterrupted np 3 run byte for byte.
 same = run(3, "distributed", steps=rest, resume=first["wd"])
-for what, ref_rows, got_rows in (
-        ("thermo", h.thermo_text_rows(first["out"]), h.thermo_text_rows(same["out"])),
-        ("energy file", h.energy_text_rows(os.path.join(first["wd"], "energy.csv")),
-         h.energy_text_rows(os.path.join(same["wd"], "energy.csv")))):
-    n, differs = h.same_text_rows(ref_rows, got_rows, RESTART_AT)
-    h.check(n > 1 and differs is None,
-            f"restart of the eroded body at np 3, continued at np 3: {n} {what} rows from step "
-            f"{RESTART_AT} on as the uninterrupted np 3 run's, byte for byte"
-            + ("" if differs is None else f" (step {differs} differs:\n  {ref_rows.get(differs)}"
-               f"\n  {got_rows[differs]})"))
+h.check_rows_as_uninterrupted(
+    "restart of the eroded body at np 3, continued at np 3 (against the uninterrupted np 3 run)",
+    RESTART_AT, first["out"], same["out"], os.path.join(first["wd"], "energy.csv"),
+    os.path.join(same["wd"], "energy.csv"))
 
 # Cost while nothing erodes: one integer reduction per host step (counted at np 3).
 LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")

@@ -92,14 +92,9 @@ def main():
                              f"scale in {where})")
     # At the rank count that wrote it: each rank takes its part back as it was, and the continued
     # run is the uninterrupted np 3 run byte for byte (thermo at 17 digits).
-    ref_rows = h.thermo_text_rows(text3)
-    got_rows = h.thermo_text_rows(continued(wd3, 3, "distributed", text=True))
-    n, differs = h.same_text_rows(ref_rows, got_rows, BASE["first"])
-    h.check(n > 1 and differs is None,
-            f"np 3 distributed -> np 3 distributed: {n} thermo rows from step {BASE['first']} "
-            f"on as the uninterrupted np 3 run's, byte for byte"
-            + ("" if differs is None else f" (step {differs} differs:\n  {ref_rows.get(differs)}"
-               f"\n  {got_rows[differs]})"))
+    h.check_rows_as_uninterrupted("np 3 distributed -> np 3 distributed (against the "
+                                  "uninterrupted np 3 run)", BASE["first"], text3,
+                                  continued(wd3, 3, "distributed", text=True))
     print("OK")
 
 

@@ -271,22 +271,43 @@ TEST(ParticleFacet, SphereOnAMeshedPlaneGetsOneHertzContactAndBalancedReactions)
   }
 }
 
-TEST(ParticleFacet, ChecksEqualCandidatesAndHistoryEndsWithTheContact)
+namespace
 {
-  const Mesh mesh = make_rect_mesh(8, 2, 1.0, 0.25, {0, 0}, ElemType::Quad4);
-  ParticleFacetContact contact;
+
+// A quad4 strip 1 x 0.25 whose surface a particle touches (Hertz, tangential history, friction
+// 0.5), and a particle pressed 1 mm into its top edge, sliding along it at 0.3 m/s (OneParticle
+// points into itself: set in place, not copied).
+Mesh strip_mesh()
+{
+  return make_rect_mesh(8, 2, 1.0, 0.25, {0, 0}, ElemType::Quad4);
+}
+void configure_strip(const Mesh& mesh, ParticleFacetContact& contact)
+{
   ParticleFacetOptions opt;
   opt.buffer = 0.02;
   contact.configure(opt);
   contact.set_materials(
       {ContactMaterial{}, mix_materials(1e7, 0.3, 0, 0, 0.9, 0.5, 1, NormalModel::Hertz, true)});
   contact.rebuild_surface(mesh);
-  OneParticle p;
+}
+void place_sliding(OneParticle& p)
+{
   p.radius = 0.05;
   p.x[0] = 0.51;
   p.x[1] = 0.25 + 0.049;
   p.x[2] = 0;
-  p.v[0] = 0.3; // sliding: tangential history builds up
+  p.v[0] = 0.3;
+}
+
+} // namespace
+
+TEST(ParticleFacet, ChecksEqualCandidatesAndHistoryEndsWithTheContact)
+{
+  const Mesh mesh = strip_mesh();
+  ParticleFacetContact contact;
+  configure_strip(mesh, contact);
+  OneParticle p;
+  place_sliding(p);
   const std::vector<double> zero(3 * mesh.num_nodes(), 0.0);
   std::vector<double> fn(3 * mesh.num_nodes(), 0.0);
   ParticleArrays arr = p.arrays();
@@ -304,6 +325,42 @@ TEST(ParticleFacet, ChecksEqualCandidatesAndHistoryEndsWithTheContact)
   EXPECT_EQ(res.contacts, 0);
   for (int k = 0; k < 4; ++k)
     EXPECT_LT(p.hist[k * kHistorySlotDoubles], 0);
+}
+
+// The host's set-up evaluation (hold_history) reads the tangential springs but does not grow them,
+// as the host's granular pairs and walls do in set-up: a sliding contact evaluated, held, then
+// evaluated again has the springs of two evaluations, bit for bit (a split run goes on as one).
+TEST(ParticleFacet, HeldEvaluationReadsTheTangentialHistoryWithoutGrowingIt)
+{
+  const Mesh mesh = strip_mesh();
+  ParticleFacetContact contact;
+  configure_strip(mesh, contact);
+  const std::vector<double> zero(3 * mesh.num_nodes(), 0.0);
+  auto slide = [&](bool held_between) {
+    OneParticle p;
+    place_sliding(p); // the spring grows by v dt per counted evaluation
+    ParticleArrays arr = p.arrays();
+    std::vector<double> fn(3 * mesh.num_nodes(), 0.0);
+    contact.invalidate_search();
+    contact.evaluate(arr, mesh.X.data(), mesh.X.data(), zero.data(), 1e-4, fn.data());
+    if (held_between) {
+      const std::vector<double> once = p.hist;
+      p.f[0] = 0;
+      contact.hold_history(true);
+      contact.evaluate(arr, mesh.X.data(), mesh.X.data(), zero.data(), 1e-4, fn.data());
+      contact.hold_history(false);
+      EXPECT_EQ(p.hist, once);
+      EXPECT_LT(p.f[0], 0.0); // the held spring (and the damping) resist the sliding
+    }
+    contact.evaluate(arr, mesh.X.data(), mesh.X.data(), zero.data(), 1e-4, fn.data());
+    return p.hist;
+  };
+  const std::vector<double> straight = slide(false);
+  EXPECT_EQ(slide(true), straight);
+  double spring = 0;
+  for (int k = 0; k < 4; ++k)
+    if (straight[k * kHistorySlotDoubles] >= 0) spring = straight[k * kHistorySlotDoubles + 2];
+  EXPECT_NEAR(spring, 2 * 0.3 * 1e-4, 1e-12); // two counted evaluations grew it by v dt each
 }
 
 TEST(ParticleFacet, HistorySlotsFindCreateAndReportExhaustion)

@@ -52,6 +52,43 @@ std::vector<std::vector<double>> messages_to(const std::vector<MeshPart>& parts,
   return received;
 }
 
+// A body's parts, each with its interface sum and its Body, stepped in one process: exchange()
+// does in memory what the host's exchange between ranks does.
+struct PartsInMemory {
+  std::vector<MeshPart> parts;
+  std::vector<InterfaceSum> sums;
+  std::vector<Body> bodies;
+
+  PartsInMemory(const Mesh& mesh, int nparts)
+      : parts(all_parts(mesh, nparts)), sums(parts.begin(), parts.end()), bodies(nparts)
+  {
+  }
+  int size() const { return static_cast<int>(parts.size()); }
+  // Every part's field_of(p) (width values per node) summed over the sharers of each node;
+  // after(p, sum) takes part p's result.
+  template <class FieldOf, class After> void exchange(int width, FieldOf field_of, After after)
+  {
+    std::vector<std::vector<double>> fields(size());
+    std::vector<const double*> ptrs;
+    for (int p = 0; p < size(); ++p) {
+      fields[p] = field_of(p);
+      ptrs.push_back(fields[p].data());
+    }
+    for (int p = 0; p < size(); ++p) {
+      std::vector<double> f = fields[p];
+      sums[p].combine(f.data(), width, messages_to(parts, sums, ptrs, width, p));
+      after(p, f);
+    }
+  }
+  // The lumped masses summed over the parts that share a node.
+  void sum_masses()
+  {
+    exchange(
+        1, [&](int p) { return bodies[p].masses(); },
+        [&](int p, const std::vector<double>& m) { bodies[p].set_masses(m); });
+  }
+};
+
 } // namespace
 
 class BodyPartition : public ::testing::TestWithParam<ElemType>
@@ -179,27 +216,12 @@ TEST_P(BodyPartition, PartsInLockstepFollowTheWholeBody)
   set_up(whole, mesh);
   const double dt = 0.5 * whole.stable_time_step();
   const int nparts = 3;
-  const std::vector<MeshPart> parts = all_parts(mesh, nparts);
-  std::vector<InterfaceSum> sums(parts.begin(), parts.end());
-  std::vector<Body> bodies(nparts);
-  auto exchange = [&](int width, auto field_of, auto after) {
-    std::vector<std::vector<double>> fields(nparts);
-    std::vector<const double*> ptrs;
-    for (int p = 0; p < nparts; ++p) {
-      fields[p] = field_of(p);
-      ptrs.push_back(fields[p].data());
-    }
-    for (int p = 0; p < nparts; ++p) {
-      std::vector<double> f = fields[p];
-      sums[p].combine(f.data(), width, messages_to(parts, sums, ptrs, width, p));
-      after(p, f);
-    }
-  };
+  PartsInMemory in_memory(mesh, nparts);
+  const std::vector<MeshPart>& parts = in_memory.parts;
+  std::vector<Body>& bodies = in_memory.bodies;
   for (int p = 0; p < nparts; ++p)
     set_up(bodies[p], parts[p].mesh);
-  exchange(
-      1, [&](int p) { return bodies[p].masses(); },
-      [&](int p, const std::vector<double>& m) { bodies[p].set_masses(m); });
+  in_memory.sum_masses();
   double owned_mass = 0, whole_mass = 0;
   for (int p = 0; p < nparts; ++p)
     for (int n = 0; n < parts[p].num_nodes(); ++n)
@@ -230,7 +252,7 @@ TEST_P(BodyPartition, PartsInLockstepFollowTheWholeBody)
       bodies[p].add_internal_forces(&inverted);
       ASSERT_LT(inverted, 0);
     }
-    exchange(
+    in_memory.exchange(
         3, [&](int p) { return bodies[p].forces(); },
         [&](int p, const std::vector<double>& f) {
           std::copy(f.begin(), f.end(), bodies[p].forces_data());
@@ -283,22 +305,9 @@ TEST_P(BodyPartition, PartsErodingWithRemovedMassFollowTheWholeBody)
   set_up(whole, mesh);
   const double m0 = whole.total_mass();
   const int nparts = 3;
-  const std::vector<MeshPart> parts = all_parts(mesh, nparts);
-  std::vector<InterfaceSum> sums(parts.begin(), parts.end());
-  std::vector<Body> bodies(nparts);
-  auto exchange = [&](int width, auto field_of, auto after) {
-    std::vector<std::vector<double>> fields(nparts);
-    std::vector<const double*> ptrs;
-    for (int p = 0; p < nparts; ++p) {
-      fields[p] = field_of(p);
-      ptrs.push_back(fields[p].data());
-    }
-    for (int p = 0; p < nparts; ++p) {
-      std::vector<double> f = fields[p];
-      sums[p].combine(f.data(), width, messages_to(parts, sums, ptrs, width, p));
-      after(p, f);
-    }
-  };
+  PartsInMemory in_memory(mesh, nparts);
+  const std::vector<MeshPart>& parts = in_memory.parts;
+  std::vector<Body>& bodies = in_memory.bodies;
   for (int p = 0; p < nparts; ++p) {
     set_up(bodies[p], parts[p].mesh);
     std::vector<std::uint8_t> owned(parts[p].num_nodes()), shared(parts[p].num_nodes());
@@ -309,9 +318,7 @@ TEST_P(BodyPartition, PartsErodingWithRemovedMassFollowTheWholeBody)
     bodies[p].set_counted_nodes(owned);
     bodies[p].set_shared_nodes(shared);
   }
-  exchange(
-      1, [&](int p) { return bodies[p].masses(); },
-      [&](int p, const std::vector<double>& m) { bodies[p].set_masses(m); });
+  in_memory.sum_masses();
   // Batch 1: every element around a node that three parts share (else two); batch 2: the
   // elements of the lower third in x.
   int centre = -1, most = 0;
@@ -343,7 +350,7 @@ TEST_P(BodyPartition, PartsErodingWithRemovedMassFollowTheWholeBody)
           mine.push_back(e);
       bodies[p].erode(mine, true);
     }
-    exchange(
+    in_memory.exchange(
         2,
         [&](int p) {
           std::vector<double> f(2 * parts[p].num_nodes());

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <sstream>
 
 #include "body/body_setup.h"
@@ -45,13 +46,24 @@ struct SpecCase {
   bool prefix = false;
 };
 
-void expect_error(const SpecCase& c)
+// Each case's error text (or its beginning).
+void expect_errors(std::initializer_list<SpecCase> cases)
 {
-  const std::string err = error_of(c.line);
-  if (c.prefix)
-    EXPECT_EQ(err.rfind(c.expected, 0), 0u) << c.line << ": " << err;
-  else
-    EXPECT_EQ(err, c.expected) << c.line;
+  for (const SpecCase& c : cases) {
+    const std::string err = error_of(c.line);
+    if (c.prefix)
+      EXPECT_EQ(err.rfind(c.expected, 0), 0u) << c.line << ": " << err;
+    else
+      EXPECT_EQ(err, c.expected) << c.line;
+  }
+}
+
+// "file m.msh LINE" parsed and checked (4 atom types, 3D): defaults resolved.
+BodySpec checked(const std::string& line)
+{
+  BodySpec s = parse(line);
+  check_body_spec(s, {}, 4, 3);
+  return s;
 }
 
 std::string check_error(const std::string& line, int dimension = 3)
@@ -205,7 +217,7 @@ TEST(BodySpec, Erosion)
   EXPECT_TRUE(s.have_erosion_mass);
   const std::string expects = "keyword 'erosion' expects one or more of 'plastic_strain EPS' "
                               "(EPS > 0), 'damage D' (0 < D <= 1), 'min_dt DT' (DT > 0)";
-  const SpecCase cases[] = {
+  expect_errors({
       {"erosion", expects},
       {"erosion damage", expects},
       {"erosion type 1", expects},
@@ -214,9 +226,7 @@ TEST(BodySpec, Erosion)
       {"erosion min_dt 1e999", "keyword 'erosion min_dt' expects a finite number, got '1e999'"},
       {"erosion_mass", "keyword 'erosion_mass' expects keep or remove"},
       {"erosion_mass all", "keyword 'erosion_mass' expects keep or remove"},
-  };
-  for (const SpecCase& c : cases)
-    expect_error(c);
+  });
 }
 
 TEST(BodySpec, CheckErosion)
@@ -297,7 +307,7 @@ TEST(BodySpec, ContactAndRunKeywords)
 
 TEST(BodySpec, MissingValues)
 {
-  const SpecCase cases[] = {
+  expect_errors({
       {"type", "keyword 'type' expects an atom type"},
       {"density", "keyword 'density' expects a value"},
       {"model", "keyword 'model' expects elastic or corotational"},
@@ -328,14 +338,12 @@ TEST(BodySpec, MissingValues)
       {"history_slots", "keyword 'history_slots' expects a count"},
       {"material", "keyword 'material': missing model (one of elastic, rankine, j2, johnson_cook, "
                    "zerilli_armstrong)"},
-  };
-  for (const SpecCase& c : cases)
-    expect_error(c);
+  });
 }
 
 TEST(BodySpec, NotNumbers)
 {
-  const SpecCase cases[] = {
+  expect_errors({
       {"density abc", "keyword 'density' expects a finite number, got 'abc'"},
       {"youngs 1e999", "keyword 'youngs' expects a finite number, got '1e999'"},
       {"poisson 0.3x", "keyword 'poisson' expects a finite number, got '0.3x'"},
@@ -350,14 +358,12 @@ TEST(BodySpec, NotNumbers)
       {"history_slots many", "keyword 'history_slots' expects an integer, got 'many'"},
       {"material rankine strength abc fracture_energy 1", "keyword 'material rankine': strength",
        true},
-  };
-  for (const SpecCase& c : cases)
-    expect_error(c);
+  });
 }
 
 TEST(BodySpec, OutOfRangeAndBadWords)
 {
-  const SpecCase cases[] = {
+  expect_errors({
       {"thickness 0", "keyword 'thickness' must be > 0"},
       {"scale -1", "keyword 'scale' must be > 0"},
       {"buffer -1", "keyword 'buffer' must be >= 0"},
@@ -408,9 +414,7 @@ TEST(BodySpec, OutOfRangeAndBadWords)
       {"fracture brittle", "keyword 'fracture' expects 'nodal [every N]'"},
       {"bulk_viscosity -1 1.2", "keyword 'bulk_viscosity': ", true},
       {"eos ideal", "keyword 'eos': unknown model 'ideal'", true},
-  };
-  for (const SpecCase& c : cases)
-    expect_error(c);
+  });
 }
 
 TEST(BodySpec, UnknownKeywordAndHeader)
@@ -514,16 +518,14 @@ TEST(BodySpec, CheckRigid)
             "keyword 'contact_bodies yes' needs a deformable body");
   EXPECT_EQ(check_error("type 1 rigid yes contact_balance a_priori"),
             "keyword 'contact_balance' applies to bodies with 'contact_bodies yes'");
-  BodySpec s = parse("type 1 rigid yes");
-  check_body_spec(s, {}, 4, 3);
+  const BodySpec s = checked("type 1 rigid yes");
   EXPECT_EQ(s.material.rho, 1.0); // the unused mass of a rigid body
   EXPECT_EQ(s.compliance_combined, 1);
 }
 
 TEST(BodySpec, CheckResolvesDefaults)
 {
-  BodySpec s = parse(kBody);
-  check_body_spec(s, {}, 4, 3);
+  const BodySpec s = checked(kBody);
   EXPECT_EQ(s.compliance_combined, 0);
   EXPECT_EQ(s.viscosity_mode, 0);
   EXPECT_FALSE(s.viscosity.on);
@@ -531,18 +533,11 @@ TEST(BodySpec, CheckResolvesDefaults)
   // A breaking body's pieces collide by default; written out, 'no' stays no.
   const std::string breaking =
       std::string(kBody) + " material rankine strength 3e6 fracture_energy 100 fracture nodal";
-  BodySpec b = parse(breaking);
-  check_body_spec(b, {}, 4, 3);
-  EXPECT_EQ(b.contact_bodies, 1);
-  b = parse(breaking + " contact_bodies no");
-  check_body_spec(b, {}, 4, 3);
-  EXPECT_EQ(b.contact_bodies, 0);
-  s = parse(std::string(kBody) + " material j2 yield 3e8 hardening 1e9");
-  check_body_spec(s, {}, 4, 3);
-  EXPECT_TRUE(s.viscosity.on); // on for plastic materials
-  s = parse(std::string(kBody) + " material j2 yield 3e8 hardening 1e9 bulk_viscosity off");
-  check_body_spec(s, {}, 4, 3);
-  EXPECT_FALSE(s.viscosity.on);
+  EXPECT_EQ(checked(breaking).contact_bodies, 1);
+  EXPECT_EQ(checked(breaking + " contact_bodies no").contact_bodies, 0);
+  const std::string j2 = std::string(kBody) + " material j2 yield 3e8 hardening 1e9";
+  EXPECT_TRUE(checked(j2).viscosity.on); // on for plastic materials
+  EXPECT_FALSE(checked(j2 + " bulk_viscosity off").viscosity.on);
   EXPECT_EQ(check_error(std::string(kBody) + " material rankine strength 3e6 fracture_energy 0")
                 .rfind("keyword 'material rankine': ", 0),
             0u);
@@ -741,48 +736,38 @@ TEST(BodySpec, ParallelChosenBySize)
 {
   const std::string body = std::string(kBody) + " ";
   bool distributed = true;
-  BodySpec s = parse(body);
-  check_body_spec(s, BodySpecHost{}, 4, 3);
-  const std::string small = parallel_choice(s, kDistributedMinElements, distributed);
+  // The choice for the checked spec of kBody and `words` at `elements` elements.
+  auto choice = [&](const std::string& words, long long elements) {
+    return parallel_choice(checked(body + words), elements, distributed);
+  };
+  const std::string small = choice("", kDistributedMinElements);
   EXPECT_FALSE(distributed);
   EXPECT_NE(small.find("parallel replicated (by default: 20000 elements <= 20000"),
             std::string::npos)
       << small;
-  const std::string big = parallel_choice(s, kDistributedMinElements + 1, distributed);
+  const std::string big = choice("", kDistributedMinElements + 1);
   EXPECT_TRUE(distributed);
   EXPECT_NE(big.find("parallel distributed (by default: 20001 elements > 20000"), std::string::npos)
       << big;
-  s = parse(body + "material rankine strength 3e6 fracture_energy 100 fracture nodal");
-  check_body_spec(s, BodySpecHost{}, 4, 3);
-  EXPECT_NE(parallel_choice(s, 1000000, distributed).find("uses 'fracture'"), std::string::npos);
-  EXPECT_FALSE(distributed);
-  s = parse(body + "material j2 yield 4e8 hardening 1e8 erosion plastic_strain 2");
-  check_body_spec(s, BodySpecHost{}, 4, 3);
-  EXPECT_NE(parallel_choice(s, 1000000, distributed)
-                .find("uses 'erosion', which a distributed body does only when asked: 'parallel "
-                      "distributed')"),
+  EXPECT_NE(choice("material rankine strength 3e6 fracture_energy 100 fracture nodal", 1000000)
+                .find("uses 'fracture'"),
             std::string::npos);
+  EXPECT_FALSE(distributed);
+  const std::string erosion = "uses 'erosion', which a distributed body does only when asked: "
+                              "'parallel distributed')";
+  const std::string j2 = "material j2 yield 4e8 hardening 1e8 erosion plastic_strain 2";
+  EXPECT_NE(choice(j2, 1000000).find(erosion), std::string::npos);
   EXPECT_FALSE(distributed);
   // erosion_mass remove is done distributed when asked, as erosion is.
-  s = parse(body + "material j2 yield 4e8 hardening 1e8 erosion plastic_strain 2 erosion_mass "
-                   "remove");
-  check_body_spec(s, BodySpecHost{}, 4, 3);
-  EXPECT_NE(parallel_choice(s, 1000000, distributed)
-                .find("uses 'erosion', which a distributed body does only when asked: 'parallel "
-                      "distributed')"),
-            std::string::npos);
+  EXPECT_NE(choice(j2 + " erosion_mass remove", 1000000).find(erosion), std::string::npos);
   EXPECT_FALSE(distributed);
-  s = parse(body + "contact_bodies yes");
-  check_body_spec(s, BodySpecHost{}, 4, 3);
-  EXPECT_NE(parallel_choice(s, 1000000, distributed)
+  EXPECT_NE(choice("contact_bodies yes", 1000000)
                 .find("uses 'contact_bodies yes', which a distributed body does only when asked: "
                       "'parallel distributed')"),
             std::string::npos);
   EXPECT_FALSE(distributed);
-  s = parse(body + "parallel replicated");
-  EXPECT_EQ(parallel_choice(s, 1000000, distributed), "");
+  EXPECT_EQ(parallel_choice(parse(body + "parallel replicated"), 1000000, distributed), "");
   EXPECT_FALSE(distributed);
-  s = parse(body + "parallel distributed");
-  EXPECT_EQ(parallel_choice(s, 10, distributed), "");
+  EXPECT_EQ(parallel_choice(parse(body + "parallel distributed"), 10, distributed), "");
   EXPECT_TRUE(distributed);
 }

@@ -1,5 +1,5 @@
-// Unit tests of the restart records of distributed bodies (body/part_restart.h): parts written
-// by global index merge into one record that a whole body and other partitions read back.
+// Unit tests of the restart records of distributed bodies (body/part_restart.h): records of the
+// earlier format read by a whole body and by parts, per-part records, gather and scatter.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -69,27 +69,36 @@ Parts split_into(const Body& whole, int nparts)
   return p;
 }
 
-std::vector<double> gathered(const Parts& p)
+// A record of the earlier format (part_restart.h kPartsRecordVersion), as the builds before
+// per-part records wrote it for this body: what restart files of that time hold.
+std::vector<double> earlier_format_record(const Body& whole)
 {
-  std::vector<double> all;
-  for (size_t k = 0; k < p.parts.size(); ++k) {
-    const std::vector<double> mine = pack_part_state(p.bodies[k], &p.parts[k]);
-    all.insert(all.end(), mine.begin(), mine.end());
+  const int nn = whole.num_nodes(), ne = whole.mesh().num_elems();
+  const Body::Accounts a = whole.accounts();
+  std::vector<double> rec = {kPartsRecordVersion, double(nn), double(ne), a.time,
+                             a.external,          a.contact,  a.boundary, a.shield_work,
+                             a.shield_hits};
+  for (int n = 0; n < nn; ++n) {
+    rec.insert(rec.end(), &whole.positions()[3 * n], &whole.positions()[3 * n] + 3);
+    rec.insert(rec.end(), &whole.velocities()[3 * n], &whole.velocities()[3 * n] + 3);
   }
-  return all;
+  for (int e = 0; e < ne; ++e) {
+    const int size = whole.element_record_size(e);
+    rec.push_back(size);
+    rec.resize(rec.size() + size);
+    whole.pack_element(e, rec.data() + rec.size() - size);
+  }
+  return rec;
 }
 
 } // namespace
 
-// Three parts of a moving body, merged, read by a whole body and by four other parts: every
-// node's position and velocity as the original's, and the accounts summed once.
-TEST(PartRestart, PartsMergeIntoTheWholeBodyAndSplitAgainAtAnotherCount)
+// A record of the earlier format of a moving body, read by a whole body and by four parts:
+// every node's position and velocity as the original's, and the accounts taken once.
+TEST(PartRestart, EarlierFormatIsReadByTheWholeBodyAndByParts)
 {
   const Body whole = moving_body();
-  const Parts three = split_into(whole, 3);
-  const std::vector<double> record =
-      merge_part_states(gathered(three), whole.num_nodes(), whole.mesh().num_elems());
-  EXPECT_EQ(record[0], kPartsRecordVersion);
+  const std::vector<double> record = earlier_format_record(whole);
 
   Body again;
   again.build(block(), fracdem_test::steel(), false);
@@ -117,17 +126,10 @@ TEST(PartRestart, PartsMergeIntoTheWholeBodyAndSplitAgainAtAnotherCount)
   EXPECT_DOUBLE_EQ(external, whole.external_work()); // taken by one part only
 }
 
-// A record without one part's contribution is refused (a node nobody owned), as is one read by
-// a body of another mesh.
-TEST(PartRestart, MissingPartsAndOtherMeshesAreRefused)
+// Such a record read by a body of another mesh is refused.
+TEST(PartRestart, EarlierFormatOfAnotherMeshIsRefused)
 {
-  const Body whole = moving_body();
-  const Parts two = split_into(whole, 2);
-  const std::vector<double> first = pack_part_state(two.bodies[0], &two.parts[0]);
-  EXPECT_THROW(merge_part_states(first, whole.num_nodes(), whole.mesh().num_elems()),
-               std::runtime_error);
-  const std::vector<double> record =
-      merge_part_states(gathered(two), whole.num_nodes(), whole.mesh().num_elems());
+  const std::vector<double> record = earlier_format_record(moving_body());
   Body other;
   other.build(make_box_tet_mesh(2, 2, 2, 0.4, 0.3, 0.2), fracdem_test::steel(), false);
   EXPECT_THROW(unpack_parts_record(record.data(), other, nullptr, true), std::runtime_error);

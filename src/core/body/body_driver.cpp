@@ -40,10 +40,13 @@ std::string format(const char* fmt, ...)
 // before. kSelfContactSection: the contact state of the body's pieces
 // (SurfaceContact::pack_state), written only where there is some, so a body without piece
 // contact writes the same bytes. kSelfEdgeSection: the pieces' edge contact state
-// (EdgeContact::pack_state), likewise.
+// (EdgeContact::pack_state), likewise. kHeldContactSection: the held contact forces of the
+// pieces and with other bodies ("held contact forces" below), 4 doubles per node (node, force),
+// likewise.
 constexpr double kRecordHead = -1.0;
 constexpr double kSelfContactSection = 1.0;
 constexpr double kSelfEdgeSection = 2.0;
+constexpr double kHeldContactSection = 3.0;
 
 // The placement keywords as the input writes them.
 std::string placement_text(bool rigid, const std::vector<MeshTransform>& transforms)
@@ -339,7 +342,8 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
            "one of them 'contact_bodies no', or this one 'parallel replicated'");
   // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
   // gathered first (the new scene starts without a partition).
-  if (scene_owned_ && scene_owned_->size() > 0 && members == scene_members_)
+  scene_continues_ = scene_owned_ && scene_owned_->size() > 0 && members == scene_members_;
+  if (scene_continues_)
     for (int m = 0; m < scene_owned_->size(); ++m)
       scene_owned_->gather_self_state(m);
   scene_owned_ = std::make_unique<ContactScene>();
@@ -633,6 +637,8 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   const double h = dt / step_substeps_; // the FE step whose forces these are
   body_.begin_forces();
   if (!count_work) body_.replay_viscous_forces_once(); // set-up: see Body
+  contact_.hold_history(!count_work);                  // set-up: see ParticleFacetContact
+  ghosts_.hold_history(!count_work);
   if (distributed_) return distributed_forces(particles, step, dt, count_work, true);
 
   // Local shares: internal forces of this rank's elements, contact forces of this rank's
@@ -642,7 +648,8 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   // Contact between the body's pieces and with other bodies: each rank takes the surface nodes
   // of its part of the scene (without a scene, rank 0 all), into the contact forces the ranks
   // sum.
-  if (spec_->contact_bodies > 0 && (scene_ || host_.rank == 0)) body_contacts(step, dt);
+  if (spec_->contact_bodies > 0 && (scene_ || host_.rank == 0))
+    body_contact_forces(step, dt, count_work);
   ParticleFacetResult res;
   if (particles) {
     res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
@@ -698,7 +705,7 @@ void BodyDriver::distributed_forces(const ParticleArrays* particles, std::int64_
     host_.max_int(&moved, 1);
   if (moved) piece_boxes_due_ = true;
   // Contact forces: each node's on one part (pieces, then particles), then summed once.
-  if (pieces) distributed_body_contacts(step, dt);
+  if (pieces) body_contact_forces(step, dt, count_work);
   if (particles) distributed_contact(*particles, step, dt);
   if (pieces || particles) shared_sum_(body_.contact_forces(), 3);
   if (first_inverted >= 0)
@@ -947,6 +954,138 @@ int BodyDriver::body_contacts(std::int64_t step, double dt)
   } catch (const std::runtime_error& e) {
     fail(prefix() + e.what());
   }
+}
+
+/* ----------------------------------------------------------------------
+   held contact forces. The forces of a step come from its mid-step
+   velocities; the host's set-up evaluation of a run that goes on (a second
+   'run', or one after read_restart) comes at unchanged positions but full-
+   step velocities, so the friction of the pieces' contact (and with it
+   the first half kick, the trapezoidal contact work and the next contact
+   offsets) would differ from the uninterrupted run's: 1.2e-6 of the contact
+   work's scale on the torn bar of test_distributed_self_contact. That
+   evaluation takes the forces of the last counted one instead, as the
+   bulk viscosity does (Body::replay_viscous_forces_once), and leaves the
+   contact state as that one left it. Every member of a scene replays, or
+   none: an earlier member's evaluation would add to a later one's forces.
+------------------------------------------------------------------------- */
+
+void BodyDriver::body_contact_forces(std::int64_t step, double dt, bool count_work)
+{
+  if (replays_body_contacts(count_work)) return replay_body_contacts();
+  if (distributed_)
+    distributed_body_contacts(step, dt);
+  else
+    body_contacts(step, dt);
+  if (count_work) hold_body_contacts();
+}
+
+bool BodyDriver::replays_body_contacts(bool count_work) const
+{
+  if (count_work) return false;
+  if (!scene_) return contacts_held_;
+  // Bodies in contact with each other: only where they are the last run's (a partner gone would
+  // still push; after a restart their pairs start afresh, docs/fix_fem_body.md).
+  if (scene_owner_->scene_members_.size() > 1 && !scene_owner_->scene_continues_) return false;
+  for (const BodyDriver* m : scene_owner_->scene_members_)
+    if (!m->contacts_held_) return false;
+  return true;
+}
+
+// After a counted evaluation, before particle contact adds to them: the contact forces of this
+// rank's surface nodes (a distributed body's part: of its nodes, before the sum over the parts
+// that share them, by global number), zero ones left out.
+void BodyDriver::hold_body_contacts()
+{
+  held_nodes_.clear();
+  held_forces_.clear();
+  held_whole_ = false;
+  const double* f = body_.contact_forces();
+  const auto hold = [&](int n, int key) {
+    if (f[3 * n] == 0 && f[3 * n + 1] == 0 && f[3 * n + 2] == 0) return;
+    held_nodes_.push_back(key);
+    held_forces_.insert(held_forces_.end(), &f[3 * n], &f[3 * n] + 3);
+  };
+  if (distributed_) {
+    for (int n = 0; n < part_.num_nodes(); ++n)
+      hold(n, part_.global_node[n]);
+  } else {
+    for (int n : surface_.nodes)
+      hold(n, n);
+  }
+  contacts_held_ = true;
+}
+
+// The held forces as the evaluation left them (begin_forces zeroed the contact forces, and no
+// other member adds to them at this set-up). A part takes its own share back, or from a restart
+// record (the whole body's sums) those of the nodes it owns.
+void BodyDriver::replay_body_contacts()
+{
+  if (scene_ && scene_owner_->scene_pending_) scene_owner_->configure_scene();
+  std::vector<int> local;
+  if (distributed_) {
+    local.assign(std::max(global_nodes_, 0), -1);
+    for (int n = 0; n < part_.num_nodes(); ++n)
+      if ((!held_whole_ || part_.owns(n)) && part_.global_node[n] < global_nodes_)
+        local[part_.global_node[n]] = n;
+  }
+  double* f = body_.contact_forces();
+  for (size_t k = 0; k < held_nodes_.size(); ++k) {
+    const int key = held_nodes_[k];
+    const int n = !distributed_                                      ? key
+                  : key >= 0 && key < static_cast<int>(local.size()) ? local[key]
+                                                                     : -1;
+    if (n >= 0 && n < body_.num_nodes())
+      std::copy(&held_forces_[3 * k], &held_forces_[3 * k] + 3, &f[3 * n]);
+  }
+}
+
+// For the restart record (every rank enters, with contact_bodies yes): (node, force) of the whole
+// body, the ranks' shares summed (a distributed body's: gathered on rank 0, which writes the
+// record). Empty when none is held.
+std::vector<double> BodyDriver::held_body_contacts_record() const
+{
+  if (spec_->contact_bodies <= 0) return {};
+  const int nodes = distributed_ ? global_nodes_ : body_.num_nodes();
+  std::vector<double> all(3 * static_cast<size_t>(std::max(nodes, 0)), 0.0), mine;
+  if (distributed_) { // the parts' shares in part order, summed at shared nodes on rank 0
+    for (size_t k = 0; k < held_nodes_.size(); ++k) {
+      mine.push_back(held_nodes_[k]);
+      mine.insert(mine.end(), &held_forces_[3 * k], &held_forces_[3 * k] + 3);
+    }
+    const std::vector<double> parts = host_.gather ? host_.gather(mine) : mine;
+    for (size_t k = 0; k + 3 < parts.size(); k += 4)
+      if (parts[k] >= 0 && parts[k] < nodes)
+        for (int d = 0; d < 3; ++d)
+          all[3 * static_cast<size_t>(parts[k]) + d] += parts[k + 1 + d];
+  } else {
+    for (size_t k = 0; k < held_nodes_.size(); ++k)
+      std::copy(&held_forces_[3 * k], &held_forces_[3 * k] + 3, &all[3 * held_nodes_[k]]);
+    if (host_.nprocs > 1) host_.sum(all.data(), static_cast<int>(all.size()));
+  }
+  mine.clear();
+  for (int n = 0; n < nodes; ++n)
+    if (all[3 * n] != 0 || all[3 * n + 1] != 0 || all[3 * n + 2] != 0) {
+      mine.push_back(n);
+      mine.insert(mine.end(), &all[3 * n], &all[3 * n] + 3);
+    }
+  return mine;
+}
+
+// From a restart record: rank 0 of a replicated body takes them all (the others none, so that
+// the ranks' sum is the whole), every part of a distributed body all of them (each replays its
+// own nodes').
+void BodyDriver::take_held_body_contacts(const double* list, size_t n)
+{
+  held_nodes_.clear();
+  held_forces_.clear();
+  held_whole_ = true;
+  if (distributed_ || host_.rank == 0)
+    for (size_t k = 0; k + 3 < n; k += 4) {
+      held_nodes_.push_back(static_cast<int>(list[k]));
+      held_forces_.insert(held_forces_.end(), list + k + 1, list + k + 4);
+    }
+  contacts_held_ = true;
 }
 
 /* ----------------------------------------------------------------------
@@ -1307,8 +1446,8 @@ double BodyDriver::distributed_vector_entry(int i)
   return value;
 }
 
-// Marker, length, placement, sections (the pieces' contacts).
-std::vector<double> BodyDriver::record_head() const
+// Marker, length, placement, sections (the pieces' contacts, the held contact forces).
+std::vector<double> BodyDriver::record_head(const std::vector<double>& held) const
 {
   std::vector<double> buf = {kRecordHead, 0.0, spec_->rigid ? 1.0 : 0.0,
                              static_cast<double>(spec_->transforms.size())};
@@ -1316,11 +1455,12 @@ std::vector<double> BodyDriver::record_head() const
     buf.push_back(static_cast<double>(t.kind));
     buf.insert(buf.end(), t.a, t.a + 4);
   }
-  std::vector<double> state[2];
+  std::vector<double> state[3];
   if (spec_->contact_bodies > 0) self_contact_.pack_state(state[0]);
   if (spec_->contact_bodies > 0) self_edges_.pack_state(state[1]);
-  const double tags[2] = {kSelfContactSection, kSelfEdgeSection};
-  for (int i = 0; i < 2; ++i)
+  state[2] = held;
+  const double tags[3] = {kSelfContactSection, kSelfEdgeSection, kHeldContactSection};
+  for (int i = 0; i < 3; ++i)
     if (!state[i].empty()) {
       buf.push_back(tags[i]);
       buf.push_back(static_cast<double>(state[i].size()));
@@ -1332,7 +1472,13 @@ std::vector<double> BodyDriver::record_head() const
 
 std::vector<double> BodyDriver::restart_record() const
 {
-  std::vector<double> buf = record_head();
+  return record_with(held_body_contacts_record());
+}
+
+// The record with the held contact forces of the whole body (held_body_contacts_record).
+std::vector<double> BodyDriver::record_with(const std::vector<double>& held) const
+{
+  std::vector<double> buf = record_head(held);
   std::vector<double> body;
   if (distributed_)
     body = distributed_body_record();
@@ -1367,8 +1513,9 @@ void BodyDriver::write_restart(std::FILE* fp) const
   if (scene_ && scene_->size() > scene_index_) scene_->gather_self_state(scene_index_);
   if (distributed_ && spec_->contact_bodies > 0)
     const_cast<BodyDriver*>(this)->gather_piece_state();
+  const std::vector<double> held = held_body_contacts_record(); // every rank
   if (!distributed_ && host_.rank != 0) return; // a replicated body: rank 0 holds it all
-  const std::vector<double> buf = restart_record();
+  const std::vector<double> buf = record_with(held);
   if (host_.rank != 0) return;
   const int nbytes = static_cast<int>(buf.size() * sizeof(double));
   std::fwrite(&nbytes, sizeof(int), 1, fp);
@@ -1456,8 +1603,8 @@ void BodyDriver::take_part_records(const double* record)
 // The head (after marker and length): placement, then sections. The stored state keeps the
 // stored placement (reference coordinates included), so a command that places the body
 // otherwise, or changes 'rigid', would be silently overruled: refused.
-void BodyDriver::read_head(const double* head, int n, const double* (&state)[2],
-                           size_t (&state_size)[2])
+void BodyDriver::read_head(const double* head, int n, const double* (&state)[3],
+                           size_t (&state_size)[3])
 {
   const int nt = n >= 2 ? static_cast<int>(head[1]) : -1;
   if (nt < 0 || n < 2 + 5 * nt) fail("fix fem/body: corrupt restart record");
@@ -1477,7 +1624,10 @@ void BodyDriver::read_head(const double* head, int n, const double* (&state)[2],
     const double tag = head[k];
     const int size = k + 1 < n ? static_cast<int>(head[k + 1]) : -1;
     if (size < 0 || k + 2 + size > n) fail("fix fem/body: corrupt restart record");
-    const int section = tag == kSelfContactSection ? 0 : tag == kSelfEdgeSection ? 1 : -1;
+    const int section = tag == kSelfContactSection   ? 0
+                        : tag == kSelfEdgeSection    ? 1
+                        : tag == kHeldContactSection ? 2
+                                                     : -1;
     if (section >= 0) {
       state[section] = head + k + 2;
       state_size[section] = static_cast<size_t>(size);
@@ -1488,8 +1638,8 @@ void BodyDriver::read_head(const double* head, int n, const double* (&state)[2],
 
 void BodyDriver::read_restart(const double* record)
 {
-  const double* state[2] = {nullptr, nullptr};
-  size_t state_size[2] = {0, 0};
+  const double* state[3] = {nullptr, nullptr, nullptr};
+  size_t state_size[3] = {0, 0, 0};
   if (record[0] == kRecordHead) {
     const int n = static_cast<int>(record[1]);
     read_head(record + 2, n, state, state_size);
@@ -1508,6 +1658,7 @@ void BodyDriver::read_restart(const double* record)
     try {
       if (state[0]) self_contact_.unpack_state(state[0], state_size[0]);
       if (state[1]) self_edges_.unpack_state(state[1], state_size[1]);
+      if (state[2]) take_held_body_contacts(state[2], state_size[2]);
     } catch (const std::exception& e) {
       fail(prefix() + e.what());
     }

@@ -145,6 +145,8 @@ public:
   std::size_t memory_bytes() const;
 
   // ---- restart: the adapter head (placement, piece contact) and the body's record ----
+  // Every rank enters where the body is distributed or has contact_bodies yes (the parts are
+  // gathered, the held contact forces summed over the ranks).
   std::vector<double> restart_record() const;
   // Writes the record as LIGGGHTS and LAMMPS read a fix's global restart: its size in bytes
   // (int), then the bytes. Called on every rank (a distributed body gathers its parts); only rank
@@ -226,6 +228,15 @@ private:
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
   void configure_scene();
   int body_contacts(std::int64_t step, double dt);
+  // The contact of the pieces and with other bodies (contact_bodies yes), or at the set-up of a
+  // run that goes on, its forces at the last counted evaluation (body_driver.cpp, "held contact
+  // forces").
+  void body_contact_forces(std::int64_t step, double dt, bool count_work);
+  bool replays_body_contacts(bool count_work) const;
+  void hold_body_contacts();
+  void replay_body_contacts();
+  std::vector<double> held_body_contacts_record() const;
+  void take_held_body_contacts(const double* list, size_t n);
   void write_energy_row(std::int64_t step);
   void write_distributed_energy_row(std::int64_t step);
   void distributed_forces(const ParticleArrays* particles, std::int64_t step, double dt,
@@ -259,15 +270,16 @@ private:
   void adopt_part(const std::vector<double>& message);
   void count_whole(const Body& whole);
   void check_balance(std::int64_t step);
-  bool broken() const { return global_elems_ != mesh_elems_ || broken_; }
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
   void merge_part_erosion(std::int64_t step, const std::vector<double>& all,
                           const std::vector<int>& at, std::vector<std::vector<std::string>>& lines,
                           std::vector<int>& eroded) const;
-  // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state.
-  void read_head(const double* head, int n, const double* (&state)[2], size_t (&size)[2]);
-  std::vector<double> record_head() const;
+  // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state,
+  // [2] the held contact forces.
+  void read_head(const double* head, int n, const double* (&state)[3], size_t (&size)[3]);
+  std::vector<double> record_head(const std::vector<double>& held) const;
+  std::vector<double> record_with(const std::vector<double>& held) const;
   std::vector<double> distributed_body_record() const;
   void read_body_record(const double* record);
   void take_whole(const Body& whole);
@@ -328,6 +340,12 @@ private:
   PieceGhosts pieces_;
   bool piece_boxes_due_ = true, piece_state_spread_ = false;
   std::vector<std::vector<double>> piece_out_, piece_in_, piece_back_, piece_returned_;
+  // The held contact forces: per entry a surface node (a distributed body's: its global number)
+  // and its force, this rank's share of the last counted evaluation (after a restart: rank 0 of a
+  // replicated body holds them all, every part of a distributed one all, and takes its own).
+  std::vector<int> held_nodes_;
+  std::vector<double> held_forces_;
+  bool contacts_held_ = false, held_whole_ = false; // whole: from a restart record
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
   // Body-body contact: the scene (owned by the first body, which lists the members, configures
@@ -338,6 +356,7 @@ private:
   int scene_index_ = -1;
   std::vector<BodyDriver*> scene_members_;
   bool scene_pending_ = false;
+  bool scene_continues_ = false; // its members are those of the last run
   std::function<double(int, int)> friction_;
   FailureMap failure_map_; // kept between checks: no allocation per check
   int last_fragments_ = 1;

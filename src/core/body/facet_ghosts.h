@@ -86,7 +86,8 @@ public:
   const std::vector<int>& send_to() const { return send_to_; }
   const std::vector<int>& recv_from() const { return recv_from_; }
   const ParticleFacetContact& contact() const { return contact_; }
-  const GlobalSurface& surface() const { return surface_; } // the whole body's
+  void hold_history(bool hold) { contact_.hold_history(hold); } // ParticleFacetContact's
+  const GlobalSurface& surface() const { return surface_; }     // the whole body's
   int surface_facets() const { return static_cast<int>(local_facets_.size()); }
   int box_exchanges() const { return box_exchanges_; }
 

@@ -11,24 +11,13 @@ namespace fracdem
 {
 
 // ---- the earlier format (files written before kPartRecordsVersion): the parts merged into one
-// record of the whole body's nodes and elements. Still read at any rank count; the writer is
-// kept so that the tests can make such records. ----
+// record of the whole body's nodes and elements, still read at any rank count ----
 
 // First value of the body section of a parts record (Body::pack_state records start with their
-// version, 1..5).
+// version, 1..5). Layout: version, node and element counts, the accounts (Body::Accounts, 6
+// values), position and velocity of every node, then each element's size and values
+// (Body::pack_element), in global order.
 constexpr double kPartsRecordVersion = 100.0;
-
-// What one part contributes (part: null for a whole body): its clock and work accounts, each
-// node it owns (global index, position, velocity) and each of its elements (global index,
-// Body::pack_element). The host gathers these from every rank.
-std::vector<double> pack_part_state(const Body& body, const MeshPart* part);
-
-// The body section from the parts' contributions, concatenated in any order: version,
-// node and element counts, the summed accounts (the clock: the first part's), positions and
-// velocities of every node, then each element's size and values in global order. Throws
-// std::runtime_error when a node or element is missing.
-std::vector<double> merge_part_states(const std::vector<double>& gathered, int global_nodes,
-                                      int global_elems);
 
 // Restores this body (a part: null for a whole body) from a parts record. take_accounts: this
 // body takes the whole body's work accounts (one part does; the others start theirs at zero, so

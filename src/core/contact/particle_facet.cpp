@@ -437,6 +437,11 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
     // An unresolved contact (disc smaller than the mesh) stays a point contact.
     const bool spread = opt_.hertz_patch && hertz_contact_patch(lead, X, x, in, r);
     if (opt_.hertz_patch) res.patch_radii = std::max(res.patch_radii, patch_reach_ / r);
+    if (hold_history_) { // the law reads the spring but does not grow it (dt 0), on a copy
+      if (shear != scratch) std::copy(shear, shear + 3, scratch);
+      shear = scratch;
+      in.dt = 0;
+    }
     const ContactOutput out = particle_surface_force(mat, in, shear);
     for (int d = 0; d < 3; ++d) {
       p.f[i][d] += out.force[d];

@@ -90,6 +90,11 @@ public:
                    std::vector<int> pieces, std::vector<double> node_area,
                    std::vector<int> key_nodes);
   void invalidate_search() { search_stale_ = true; }
+  // hold: the evaluations read the tangential history but do not advance it: the host's set-up
+  // evaluation, at the positions of the last step, as the host's granular pair styles and walls
+  // do in set-up (LIGGGHTS and LAMMPS: no shear update), so that a run that goes on (a second
+  // 'run', read_restart) keeps the springs of the last step.
+  void hold_history(bool hold) { hold_history_ = hold; }
   const ParticleFacetOptions& options() const { return opt_; }
   // What rebuild_surface derived (set_surface's inputs for parts of this surface).
   const std::vector<double>& reference_normals() const { return facet_ref_normal_; }
@@ -135,6 +140,7 @@ private:
   std::vector<double> search_sphere_; // x,y,z,r per search sphere at build time
   std::vector<double> search_shift_;  // 3 per search sphere: its periodic image shift
   bool search_stale_ = true;
+  bool hold_history_ = false;
   int nrebuilds_ = 0;
   // Plane and bounding ball of every facet at the last search build, and the largest node
   // displacement since then: gather_hits culls with them before any closest point.
