@@ -102,9 +102,9 @@ def run_blocks(np_, parallel, steps=BLOCK_STEPS, other=0, expect_fail=False, dim
 
 
 def run_bar(np_, parallel, restart_at=RESTART_AT, frac="every 5", balls=0):
-    """restart_at: the run is split there (run, write_restart, run) in every run compared, since
-    a split while the pieces touch changes the contact work by 1.2e-6 of its scale at np 1
-    replicated too (measured; not traced here)."""
+    """restart_at: the run is split there (run, write_restart, run) in every run compared, so
+    that the restart record of that step can be continued at other rank counts (a split run now
+    continues as the unsplit one: test_run_split)."""
     return ds.run_bar(args.exe, np_, parallel, frac, BAR_STEPS,
                       prefix="distributed_self_contact_bar", pieces="yes",
                       restart_at=restart_at, balls=balls)
