@@ -14,6 +14,7 @@
 #include "contact/granular_law.h"
 #include "contact/particle_facet.h"
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 using namespace fracdem;
 
@@ -144,10 +145,7 @@ struct Parts {
   }
   std::vector<double> local(const std::vector<double>& whole, int p) const
   {
-    std::vector<double> out;
-    for (int g : parts[p].global_node)
-      out.insert(out.end(), &whole[3 * g], &whole[3 * g] + 3);
-    return out;
+    return fracdem_test::part_vectors(parts[p], whole);
   }
   // One step: boxes (when asked), facets out, contact, forces back.
   std::vector<ParticleFacetResult> step(std::vector<ParticleArrays>& ps,
@@ -392,8 +390,8 @@ TEST(FacetGhosts, DeepContactsReportAPatchBeyondTheGhostReach)
     s.add(at, vel, r);
     ParticleArrays p = s.arrays();
     std::vector<double> v(mesh.X.size(), 0.0), f(mesh.X.size(), 0.0);
-    const ParticleFacetResult res = c.evaluate(p, mesh.X.data(), mesh.X.data(), v.data(), 1e-7,
-                                               f.data());
+    const ParticleFacetResult res =
+        c.evaluate(p, mesh.X.data(), mesh.X.data(), v.data(), 1e-7, f.data());
     ASSERT_GT(res.contacts, 0) << depth;
     EXPECT_NEAR(res.patch_radii, 3.6 * std::sqrt(2 * depth), 1e-9) << depth;
     EXPECT_EQ(res.patch_radii > kPatchRadii, depth > 0.6) << depth;

@@ -10,6 +10,7 @@
 #include "body/body_partition.h"
 #include "body/piece_ghosts.h"
 #include "io/mesh_generators.h"
+#include "test_support.h"
 
 using namespace fracdem;
 
@@ -86,10 +87,7 @@ struct Pieces {
   }
   std::vector<double> local(const std::vector<double>& whole, int p) const
   {
-    std::vector<double> out;
-    for (int g : parts[p].global_node)
-      out.insert(out.end(), &whole[3 * g], &whole[3 * g] + 3);
-    return out;
+    return fracdem_test::part_vectors(parts[p], whole);
   }
   // p's message to q is out[p][k] with partners(p)[k] == q; both sides list each other.
   void route(const std::vector<std::vector<std::vector<double>>>& out,

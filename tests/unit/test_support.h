@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "balance/graph_partition.h"
+#include "body/body_partition.h"
 #include "contact/particle_facet.h"
 #include "fem/mesh.h"
 #include "materials/material.h"
@@ -147,6 +148,16 @@ inline fracdem::Material steel()
   m.nu = 0.3;
   m.rho = 7800;
   return m;
+}
+
+// The 3-vectors of a part's nodes (in its local order) taken from a whole body's (global order).
+inline std::vector<double> part_vectors(const fracdem::MeshPart& part,
+                                        const std::vector<double>& whole)
+{
+  std::vector<double> out;
+  for (int g : part.global_node)
+    out.insert(out.end(), &whole[3 * g], &whole[3 * g] + 3);
+  return out;
 }
 
 } // namespace fracdem_test

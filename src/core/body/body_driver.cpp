@@ -1022,19 +1022,15 @@ void BodyDriver::hold_body_contacts()
 void BodyDriver::replay_body_contacts()
 {
   if (scene_ && scene_owner_->scene_pending_) scene_owner_->configure_scene();
-  std::vector<int> local;
-  if (distributed_) {
-    local.assign(std::max(global_nodes_, 0), -1);
-    for (int n = 0; n < part_.num_nodes(); ++n)
-      if ((!held_whole_ || part_.owns(n)) && part_.global_node[n] < global_nodes_)
-        local[part_.global_node[n]] = n;
-  }
+  const std::vector<int> local =
+      distributed_ ? local_of_global(part_.global_node, global_nodes_) : std::vector<int>();
   double* f = body_.contact_forces();
   for (size_t k = 0; k < held_nodes_.size(); ++k) {
     const int key = held_nodes_[k];
     const int n = !distributed_                                      ? key
                   : key >= 0 && key < static_cast<int>(local.size()) ? local[key]
                                                                      : -1;
+    if (distributed_ && held_whole_ && n >= 0 && !part_.owns(n)) continue;
     if (n >= 0 && n < body_.num_nodes())
       std::copy(&held_forces_[3 * k], &held_forces_[3 * k] + 3, &f[3 * n]);
   }

@@ -100,6 +100,14 @@ restrict_sets(const std::map<std::string, std::vector<int>>& sets, const std::ve
 }
 } // namespace
 
+std::vector<int> local_of_global(const std::vector<int>& global, int size)
+{
+  std::vector<int> local(std::max(size, 0), -1);
+  for (size_t i = 0; i < global.size(); ++i)
+    if (global[i] >= 0 && global[i] < size) local[global[i]] = static_cast<int>(i);
+  return local;
+}
+
 MeshPart extract_part(const Mesh& mesh, const std::vector<int>& elem_part, int part)
 {
   if (static_cast<int>(elem_part.size()) != mesh.num_elems())

@@ -49,6 +49,10 @@ struct MeshPart {
   int num_shared_nodes() const;
 };
 
+// The local index of each global number in [0, size) (-1: not among `global`, a part's local ->
+// global list such as MeshPart::global_node or global_elem).
+std::vector<int> local_of_global(const std::vector<int>& global, int size);
+
 // Part `part` of `mesh` under the element partition elem_part (partition_elements).
 MeshPart extract_part(const Mesh& mesh, const std::vector<int>& elem_part, int part);
 

@@ -9,20 +9,6 @@
 namespace fracdem
 {
 
-namespace
-{
-
-// Local index of each global number (-1: not in `global`).
-std::vector<int> inverse(const std::vector<int>& global, int size)
-{
-  std::vector<int> local(std::max(size, 0), -1);
-  for (size_t i = 0; i < global.size(); ++i)
-    if (global[i] >= 0 && global[i] < size) local[global[i]] = static_cast<int>(i);
-  return local;
-}
-
-} // namespace
-
 // Nodes of the part whose elements, on every part that shares them, are all eroded: (global
 // number, X) per owned one, gathered and sent to every rank (a body that cannot erode has none).
 std::vector<double> BodyDriver::free_surface_nodes() const
@@ -59,11 +45,11 @@ void BodyDriver::build_part_surface()
   gather_piece_state(); // the evaluating ranks may change with the parts
   const GlobalSurface& whole = ghosts_.surface();
   const int ng = global_nodes_;
-  const std::vector<int> local_node = inverse(part_.global_node, ng);
+  const std::vector<int> local_node = local_of_global(part_.global_node, ng);
   int ge = 0;
   for (int e : part_.global_elem)
     ge = std::max(ge, e + 1);
-  const std::vector<int> local_elem = inverse(part_.global_elem, ge);
+  const std::vector<int> local_elem = local_of_global(part_.global_elem, ge);
   std::vector<double> reach(whole.facets.size(), 0.0);
   for (size_t k = 0; k < whole.facets.size(); ++k) {
     Facet fc = whole.facets[k];
