@@ -156,15 +156,9 @@ struct Parts {
     std::vector<std::vector<double>> xp(np), vp(np);
     for (int p = 0; p < np; ++p)
       xp[p] = local(x, p), vp[p] = local(v, p);
-    if (boxes) {
-      std::vector<double> all;
-      for (int p = 0; p < np; ++p) {
-        const std::vector<double> b = ghosts[p].local_boxes(ps[p], xp[p].data());
-        all.insert(all.end(), b.begin(), b.end());
-      }
-      for (int p = 0; p < np; ++p)
-        ghosts[p].set_boxes(all);
-    }
+    if (boxes)
+      fracdem_test::exchange_boxes(
+          ghosts, [&](int p) { return ghosts[p].local_boxes(ps[p], xp[p].data()); });
     std::vector<std::vector<std::vector<double>>> out(np), in(np), back(np), ret(np);
     for (int p = 0; p < np; ++p) {
       EXPECT_EQ(ghosts[p].check_particles(ps[p]), "");

@@ -112,15 +112,10 @@ struct Pieces {
     std::vector<std::vector<double>> xp(np), vp(np);
     for (int p = 0; p < np; ++p)
       xp[p] = local(x, p), vp[p] = local(v, p);
-    if (boxes) {
-      std::vector<double> all;
-      for (int p = 0; p < np; ++p) {
-        const std::vector<double> b = ghosts[p].local_box(xp[p].data(), 1e-3 + surface.max_reach);
-        all.insert(all.end(), b.begin(), b.end());
-      }
-      for (int p = 0; p < np; ++p)
-        ghosts[p].set_boxes(all);
-    }
+    if (boxes)
+      fracdem_test::exchange_boxes(ghosts, [&](int p) {
+        return ghosts[p].local_box(xp[p].data(), 1e-3 + surface.max_reach);
+      });
     std::vector<std::vector<std::vector<double>>> out(np), in(np), back(np), ret(np);
     for (int p = 0; p < np; ++p)
       ghosts[p].outgoing(xp[p].data(), vp[p].data(), out[p]);
@@ -211,16 +206,11 @@ TEST(PieceGhosts, PartnersFromBoxesAndTravelBeyondTheBuffer)
   std::fill(blocks.begin() + mesh.num_elems() / 2, blocks.end(), 1);
   Pieces pieces(mesh, 2, blocks);
   for (double grow : {0.004, 0.006}) {
-    std::vector<double> all;
-    for (int p = 0; p < 2; ++p) {
-      const std::vector<double> x = pieces.local(mesh.X, p);
-      const std::vector<double> b = pieces.ghosts[p].local_box(x.data(), grow);
-      all.insert(all.end(), b.begin(), b.end());
-    }
-    for (int p = 0; p < 2; ++p) {
-      pieces.ghosts[p].set_boxes(all);
+    fracdem_test::exchange_boxes(pieces.ghosts, [&](int p) {
+      return pieces.ghosts[p].local_box(pieces.local(mesh.X, p).data(), grow);
+    });
+    for (int p = 0; p < 2; ++p)
       EXPECT_EQ(pieces.ghosts[p].partners().size(), grow > 0.005 ? 1u : 0u) << grow;
-    }
   }
   std::vector<double> x = pieces.local(mesh.X, 0);
   EXPECT_FALSE(pieces.ghosts[0].moved_beyond(x.data(), 1e-3));

@@ -160,4 +160,17 @@ inline std::vector<double> part_vectors(const fracdem::MeshPart& part,
   return out;
 }
 
+// Every part's box (box_of(p): what a rank would all-gather) concatenated in part order and
+// handed to every part's ghosts, as the MPI_Allgather of the box exchange does.
+template <class Ghosts, class BoxOf> void exchange_boxes(std::vector<Ghosts>& ghosts, BoxOf box_of)
+{
+  std::vector<double> all;
+  for (size_t p = 0; p < ghosts.size(); ++p) {
+    const std::vector<double> b = box_of(static_cast<int>(p));
+    all.insert(all.end(), b.begin(), b.end());
+  }
+  for (Ghosts& g : ghosts)
+    g.set_boxes(all);
+}
+
 } // namespace fracdem_test
