@@ -27,6 +27,17 @@ void CellGrid::coords(int64_t cell, int64_t c[3]) const
   c[2] = cell / (n[0] * n[1]);
 }
 
+int64_t CellGrid::neighbour(const int64_t c[3], int64_t dx, int64_t dy, int64_t dz) const
+{
+  int64_t m[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
+  for (int d = 0; d < 3; ++d)
+    if (m[d] < 0 || m[d] >= n[d]) {
+      if (!periodic[d]) return -1;
+      m[d] = (m[d] + n[d]) % n[d];
+    }
+  return id(m[0], m[1], m[2]);
+}
+
 CellGrid make_cell_grid(const double lo[3], const double hi[3], double cell, int dim,
                         const bool periodic[3], int64_t max_cells)
 {
@@ -68,14 +79,8 @@ std::vector<int> fill_cell_owners(const CellGrid& grid, const std::vector<int64_
       grid.coords(cell, c);
       for (int d = 0; d < 3; ++d)
         for (int s = -1; s <= 1; s += 2) {
-          int64_t m[3] = {c[0], c[1], c[2]};
-          m[d] += s;
-          if (m[d] < 0 || m[d] >= grid.n[d]) {
-            if (!grid.periodic[d]) continue;
-            m[d] = (m[d] + grid.n[d]) % grid.n[d];
-          }
-          const int64_t nb = grid.id(m[0], m[1], m[2]);
-          if (owner[nb] >= 0) continue;
+          const int64_t nb = grid.neighbour(c, d == 0 ? s : 0, d == 1 ? s : 0, d == 2 ? s : 0);
+          if (nb < 0 || owner[nb] >= 0) continue;
           owner[nb] = owner[cell];
           next.push_back(nb);
         }
@@ -136,15 +141,9 @@ Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
     for (int dz = -zr; dz <= zr; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          int64_t m[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
-          bool inside = true;
-          for (int d = 0; d < 3; ++d)
-            if (m[d] < 0 || m[d] >= grid.n[d]) {
-              if (!grid.periodic[d]) inside = false;
-              m[d] = (m[d] + grid.n[d]) % grid.n[d];
-            }
-          if (!inside) continue;
-          const int64_t u = vertex_of_cell[grid.id(m[0], m[1], m[2])];
+          const int64_t nb = grid.neighbour(c, dx, dy, dz);
+          if (nb < 0) continue;
+          const int64_t u = vertex_of_cell[nb];
           if (u >= 0 && u != v) rows.add(v, u, 1);
         }
     rows.end_row(v);

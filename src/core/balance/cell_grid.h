@@ -21,6 +21,9 @@ struct CellGrid {
   int64_t cell_of(const double x[3]) const;
   int64_t id(int64_t cx, int64_t cy, int64_t cz) const { return (cz * n[1] + cy) * n[0] + cx; }
   void coords(int64_t id, int64_t c[3]) const;
+  // The cell at offset (dx, dy, dz) from the cell at coordinates c, wrapped along periodic
+  // dimensions; -1 beyond a non-periodic edge.
+  int64_t neighbour(const int64_t c[3], int64_t dx, int64_t dy, int64_t dz) const;
 };
 
 // Cells of edge >= `cell` over [lo, hi) (dim 2 or 3; z has one cell in 2D); coarsened uniformly

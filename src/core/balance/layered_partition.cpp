@@ -324,15 +324,9 @@ std::vector<int> grid_partners(const CellGrid& grid, const std::vector<int64_t>&
     for (int64_t dz = -zr; dz <= zr; ++dz)
       for (int64_t dy = -1; dy <= 1; ++dy)
         for (int64_t dx = -1; dx <= 1; ++dx) {
-          int64_t m[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
-          bool inside = true;
-          for (int a = 0; a < 3; ++a)
-            if (m[a] < 0 || m[a] >= grid.n[a]) {
-              inside = inside && grid.periodic[a];
-              m[a] = (m[a] + grid.n[a]) % grid.n[a];
-            }
-          if (!inside) continue;
-          const int q = owner[grid.id(m[0], m[1], m[2])];
+          const int64_t nb = grid.neighbour(c, dx, dy, dz);
+          if (nb < 0) continue;
+          const int q = owner[nb];
           if (q != p && q >= 0) adj[p].push_back(q);
         }
   }
