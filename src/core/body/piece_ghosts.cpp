@@ -179,16 +179,8 @@ void PieceGhosts::search(const ContactSurface& s, const double* x)
   if (!stale_ && !(2 * search_.node_travel(kx_.data(), nk) > reach)) return;
   stale_ = false;
   std::vector<Aabb> boxes(facets_.size());
-  for (size_t j = 0; j < facets_.size(); ++j) {
-    const Facet& fc = s.facets[facets_[j]];
-    std::fill(boxes[j].lo, boxes[j].lo + 3, std::numeric_limits<double>::max());
-    std::fill(boxes[j].hi, boxes[j].hi + 3, -std::numeric_limits<double>::max());
-    for (int c = 0; c < fc.nn; ++c)
-      for (int d = 0; d < 3; ++d) {
-        boxes[j].lo[d] = std::min(boxes[j].lo[d], x[3 * fc.n[c] + d]);
-        boxes[j].hi[d] = std::max(boxes[j].hi[d], x[3 * fc.n[c] + d]);
-      }
-  }
+  for (size_t j = 0; j < facets_.size(); ++j)
+    boxes[j] = node_box(s.facets[facets_[j]].n.data(), s.facets[facets_[j]].nn, x);
   std::vector<double> spheres(4 * slaves_.size(), 0.0);
   for (size_t i = 0; i < slaves_.size(); ++i)
     std::copy(&x[3 * s.nodes[slaves_[i]]], &x[3 * s.nodes[slaves_[i]]] + 3, &spheres[4 * i]);

@@ -175,17 +175,8 @@ void ContactScene::search(const std::vector<ContactBodyState>& states)
   std::vector<Aabb> boxes(facet_off_[n]);
   for (int m = 0; m < n; ++m) {
     const ContactSurface& s = *members_[m].surface;
-    for (size_t k = 0; k < s.facets.size(); ++k) {
-      Aabb& box = boxes[facet_off_[m] + k];
-      std::fill(box.lo, box.lo + 3, std::numeric_limits<double>::max());
-      std::fill(box.hi, box.hi + 3, -std::numeric_limits<double>::max());
-      for (int j = 0; j < s.facets[k].nn; ++j)
-        for (int d = 0; d < 3; ++d) {
-          const double x = states[m].x[3 * s.facets[k].n[j] + d];
-          box.lo[d] = std::min(box.lo[d], x);
-          box.hi[d] = std::max(box.hi[d], x);
-        }
-    }
+    for (size_t k = 0; k < s.facets.size(); ++k)
+      boxes[facet_off_[m] + k] = node_box(s.facets[k].n.data(), s.facets[k].nn, states[m].x);
   }
   std::vector<double> spheres(4 * static_cast<size_t>(nn), 0.0);
   for (int g = 0; g < nn; ++g)

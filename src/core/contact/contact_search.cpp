@@ -8,6 +8,21 @@
 namespace fracdem
 {
 
+Aabb node_box(const int* nodes, int nn, const double* x)
+{
+  Aabb b;
+  for (int d = 0; d < 3; ++d) {
+    b.lo[d] = std::numeric_limits<double>::max();
+    b.hi[d] = -std::numeric_limits<double>::max();
+  }
+  for (int j = 0; j < nn; ++j)
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(b.lo[d], x[3 * nodes[j] + d]);
+      b.hi[d] = std::max(b.hi[d], x[3 * nodes[j] + d]);
+    }
+  return b;
+}
+
 namespace
 {
 inline bool overlap(const Aabb& f, const double* s, double h_f, double r_s)

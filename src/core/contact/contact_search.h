@@ -12,6 +12,9 @@ struct Aabb {
   double lo[3], hi[3];
 };
 
+// The bounding box of nodes nodes[0..nn) at positions x (3 per node): a facet's, for the search.
+Aabb node_box(const int* nodes, int nn, const double* x);
+
 // Facet boxes are inflated by buffer/2 and spheres by radius + buffer/2, so a pair can only be
 // missed once the relative approach exceeds `buffer`. The relative approach per axis is at most
 // (largest sphere displacement) + (largest node displacement) since the build, which is what

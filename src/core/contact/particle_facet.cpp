@@ -132,20 +132,8 @@ void ParticleFacetContact::reference_normals(const Mesh& mesh)
 void ParticleFacetContact::rebuild_search(const ParticleArrays& p, const double* x, int nnodes)
 {
   std::vector<Aabb> boxes(facets_.size());
-  for (size_t k = 0; k < facets_.size(); ++k) {
-    Aabb& b = boxes[k];
-    for (int d = 0; d < 3; ++d) {
-      b.lo[d] = std::numeric_limits<double>::max();
-      b.hi[d] = -std::numeric_limits<double>::max();
-    }
-    for (int j = 0; j < facets_[k].nn; ++j) {
-      const double* q = &x[3 * facets_[k].n[j]];
-      for (int d = 0; d < 3; ++d) {
-        b.lo[d] = std::min(b.lo[d], q[d]);
-        b.hi[d] = std::max(b.hi[d], q[d]);
-      }
-    }
-  }
+  for (size_t k = 0; k < facets_.size(); ++k)
+    boxes[k] = node_box(facets_[k].n.data(), facets_[k].nn, x);
   search_spheres(p, boxes);
   const int ns = static_cast<int>(search_atoms_.size());
   search_->build(boxes, search_sphere_.data(), ns);

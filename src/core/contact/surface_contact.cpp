@@ -353,18 +353,8 @@ void SurfaceContact::rebuild_search(const ContactSurface& facets_of, const doubl
                                     double buffer)
 {
   std::vector<Aabb> boxes(facets_of.facets.size());
-  for (size_t k = 0; k < boxes.size(); ++k) {
-    const Facet& fc = facets_of.facets[k];
-    for (int d = 0; d < 3; ++d) {
-      boxes[k].lo[d] = std::numeric_limits<double>::max();
-      boxes[k].hi[d] = -std::numeric_limits<double>::max();
-    }
-    for (int j = 0; j < fc.nn; ++j)
-      for (int d = 0; d < 3; ++d) {
-        boxes[k].lo[d] = std::min(boxes[k].lo[d], xb[3 * fc.n[j] + d]);
-        boxes[k].hi[d] = std::max(boxes[k].hi[d], xb[3 * fc.n[j] + d]);
-      }
-  }
+  for (size_t k = 0; k < boxes.size(); ++k)
+    boxes[k] = node_box(facets_of.facets[k].n.data(), facets_of.facets[k].nn, xb);
   sphere_.assign(4 * ns, 0.0);
   for (int s = 0; s < ns; ++s)
     for (int d = 0; d < 3; ++d)
