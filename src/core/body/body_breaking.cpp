@@ -33,46 +33,83 @@ std::vector<int64_t> element_costs(const Body& body)
   return cost;
 }
 
+int inactive_elements(const Mesh& mesh)
+{
+  return static_cast<int>(std::count(mesh.active.begin(), mesh.active.end(), 0));
+}
+
 } // namespace
 
-// Each part knows from its own elements whether the check can change anything: every decision of
-// the replicated check (crack points, the collapsed elements it erodes) comes from the elements
-// whose last force evaluation found a point that carries no more tension, so without such an
-// element in any part nothing can change. One integer max-reduction tells every rank; while a
-// part holds one, the parts are gathered on rank 0,
-// which runs the replicated check on the whole body (its log lines, its numbering). Without a
-// change one more integer says so and every part goes on untouched; after a change rank 0
-// partitions the new body and every rank takes its new part.
+// Every decision of the replicated check (crack points, the collapsed elements it erodes) comes
+// from the elements whose last force evaluation found a point that carries no more tension, and
+// once a body has cracked they stay failed: so each part also asks whether the check can change
+// anything there (fracture_may_change). One integer max-reduction of both tells every rank; the
+// parts are gathered on rank 0 only when some part holds a failed element and some part says the
+// check may change the body. Rank 0 runs the replicated check on the whole body (its log lines,
+// its numbering). Without a change one more reduction says so (and whether a pinched node is
+// left) and every part goes on untouched; after a change rank 0 partitions the new body and
+// every rank takes its new part.
 void BodyDriver::distributed_fracture(std::int64_t step, double dt)
 {
-  int flag = 0;
+  int flag[2] = {0, 0}; // a part holds an active failed element; the check may change the body
   if (body_.damaged_points() > 0)
     for (int e : *body_.failed_elements()) // a part's evaluation covers all its elements
-      if (body_.mesh().active[e]) flag = 1;
-  host_.max_int(&flag, 1);
-  if (!flag) return;
+      if (body_.mesh().active[e]) flag[0] = 1;
+  note_erosion();
+  flag[1] = flag[0] && fracture_may_change(dt) ? 1 : 0;
+  if (pinch_left_ || eroded_unchecked_) flag[1] = 1;
+  host_.max_int(flag, 2);
+  if (!flag[0] || !flag[1]) return;
   Body whole;
   std::vector<int> owner;
-  int changed[2] = {0, 0}; // topology changed, elements cut
+  int changed[3] = {0, 0, 0}; // topology changed, elements cut, a pinched node left
   if (gather_whole(whole, owner)) {
     std::vector<SplitEvent> events;
     std::vector<CutEvent> cuts;
     std::swap(body_, whole); // the replicated check and its log lines, on the whole body
     changed[0] = crack_body(step, dt, events, cuts) ? 1 : 0;
     changed[1] = cuts.empty() ? 0 : 1;
+    changed[2] = pinched_crack_node(body_, whole_crack_nodes(body_, spec_->min_size)) ? 1 : 0;
     if (changed[0]) log_cracks(step, events, cuts);
     std::swap(body_, whole);
   }
-  host_.max_int(changed, 2);
-  if (!changed[0]) return;
+  host_.max_int(changed, 3);
+  pinch_left_ = changed[2] != 0;
+  eroded_unchecked_ = false;
+  if (!changed[0]) {
+    inactive_checked_ = inactive_elements(body_.mesh());
+    return;
+  }
   broken_ = true;
   std::vector<int> elem_part;
   if (host_.rank == 0) {
     count_whole(whole);
     elem_part = repartition(whole, owner);
   }
-  scatter_whole(whole, elem_part);
+  scatter_whole(whole, elem_part); // adopt_part notes the new part's eroded elements
   check_step_after_cracks(step, dt, changed[1] != 0);
+}
+
+// Whether the whole body's check may change anything at this part's failed elements: each crack
+// point whose star lies wholly in the part by the same decisions as insert_cracks
+// (crack_forecast.h), any other one as a change. The part's elements are pieces of cut elements
+// of unknown fraction: 1 is taken (an upper bound, so a cut the check would make is never missed).
+bool BodyDriver::fracture_may_change(double dt)
+{
+  FractureCheckRule rule;
+  rule.min_size = spec_->min_size;
+  rule.erode_cracked = spec_->erode_cracked;
+  rule.dt = dt;
+  return check_may_change(body_, part_crack_nodes(part_, topo_, spec_->min_size), rule);
+}
+
+// An erosion between checks (section "Bodies that erode") may leave a node on a crack pinched,
+// which the next check separates: the part that eroded gathers the body at the next check. Kept
+// across a rebalance, which builds the part afresh.
+void BodyDriver::note_erosion()
+{
+  if (inactive_checked_ >= 0 && inactive_elements(body_.mesh()) != inactive_checked_)
+    eroded_unchecked_ = true;
 }
 
 // Every rank sends rank 0 its part (pack_part_whole); rank 0 (true) builds the whole body from the
@@ -155,6 +192,7 @@ void BodyDriver::adopt_part(const std::vector<double>& message)
   ghosts_.init(part_, std::move(surface));
   boxes_due_ = true;
   whole_mesh_known_ = false; // the parts changed: rank 0 gathers them again at the next erosion
+  inactive_checked_ = inactive_elements(body_.mesh());
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0;
   for (const PartNeighbour& nb : part_.neighbours)
@@ -178,6 +216,7 @@ void BodyDriver::check_balance(std::int64_t step)
   host_.sum(&work[1], 1);
   const double mean = work[1] / host_.nprocs;
   if (!(mean > 0) || !(work[0] / mean > spec_->rebalance)) return;
+  note_erosion(); // before the part is built afresh
   Body whole;
   std::vector<int> owner, elem_part;
   if (gather_whole(whole, owner)) {

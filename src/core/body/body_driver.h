@@ -269,6 +269,8 @@ private:
   void scatter_whole(const Body& whole, const std::vector<int>& elem_part);
   void adopt_part(const std::vector<double>& message);
   void count_whole(const Body& whole);
+  bool fracture_may_change(double dt);
+  void note_erosion();
   void check_balance(std::int64_t step);
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
@@ -303,6 +305,12 @@ private:
   PartTopology topo_;
   bool broken_ = false;
   int whole_split_nodes_ = 0, whole_fragments_ = 1;
+  // The forecast of the fracture check (body_breaking.cpp): whether the whole body held a pinched
+  // node on a crack after the last gathered check (true until one has been made), this part's
+  // eroded elements then (-1: none made) and whether it eroded since (kept across a rebalance).
+  bool pinch_left_ = true;
+  int inactive_checked_ = -1;
+  bool eroded_unchecked_ = false;
   long long interface_pairs_ = 0;
   // A distributed body that erodes: this part's erosions (global element numbers) in the force
   // evaluations since the last follow-up (fe: their index there), its own stable steps after each

@@ -198,6 +198,27 @@ PartTopology whole_topology(const Body& whole)
   return t;
 }
 
+CrackNodes part_crack_nodes(const MeshPart& part, const PartTopology& topo, double min_size)
+{
+  const int nn = part.num_nodes();
+  CrackNodes c;
+  c.split.assign(nn, 0);
+  c.on_crack.assign(nn, 0);
+  c.whole_star.assign(nn, 1);
+  const bool known = static_cast<int>(topo.node_split.size()) == nn;
+  bool cracked = false;
+  for (int n = 0; n < nn; ++n) {
+    const bool cut = static_cast<int>(topo.cut_u.size()) == nn && topo.cut_u[n] >= 0;
+    const bool copy = static_cast<int>(topo.node_parent.size()) == nn && topo.node_parent[n] >= 0;
+    cracked |= cut || copy;
+    c.split[n] = known && topo.node_split[n] != 0;
+    c.on_crack[n] = c.split[n] || (min_size > 0 && cut);
+    c.whole_star[n] = !part.shared(n);
+  }
+  if (cracked && !known) c.whole_star.assign(nn, 0);
+  return c;
+}
+
 std::vector<double> pack_part_whole(const Body& body, const MeshPart& part,
                                     const PartTopology& topo)
 {

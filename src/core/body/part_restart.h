@@ -6,6 +6,7 @@
 
 #include "body/body_partition.h"
 #include "fem/body.h"
+#include "fracture/crack_forecast.h"
 
 namespace fracdem
 {
@@ -48,6 +49,12 @@ struct PartTopology {
 };
 // The same of a whole body (global numbers are its own).
 PartTopology whole_topology(const Body& whole);
+
+// The part's nodes as the fracture check on the whole body sees them (crack_forecast.h): split
+// and cut nodes of the whole body from its topology, whole stars where the part alone uses a node.
+// Topology fields that were never set (an intact body's part) mark no node on a crack; where they
+// are missing on a cracked part no star counts as whole (every check may change).
+CrackNodes part_crack_nodes(const MeshPart& part, const PartTopology& topo, double min_size);
 
 // What one part contributes to the gathered whole body: its accounts and outputs (Body::Outputs),
 // its damage (damaged points, failed elements by global number), each node it owns (global

@@ -254,6 +254,25 @@ std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& fai
   return reached;
 }
 
+// Mirrors one pass of insert_cracks' loop at v on an unchanged body: with cuts, the tension check
+// on the star's plan comes first, then a cut or a splittable plan changes the body; without, a
+// splittable plan whose opening carries no tension. The line tolerance is insert_cracks'.
+bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_crack,
+                           double min_size, const std::function<double(int)>& fraction)
+{
+  const bool cutting = min_size > 0;
+  const double line_tolerance = cutting ? std::min(1.0 / 3.0, 0.5 * min_size) : 1.0 / 3.0;
+  double n[3] = {0, 0, 0};
+  const int e = driving_element(body, v, n);
+  if (e < 0 || band_already_cracked(body, on_crack, e, v, n, line_tolerance)) return false;
+  const SplitPlan plan = body.plan_split(v, n);
+  if (opening_carries_tension(body, plan, n)) return false;
+  if (plan.splittable()) return true;
+  return cutting && find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n,
+                                     min_size, fraction)
+                        .found();
+}
+
 std::vector<double> fragment_masses(const Body& body)
 {
   const Mesh& mesh = body.mesh();

@@ -2,6 +2,7 @@
 // turns a smeared crack into a physical one by splitting nodes along element boundaries.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "fem/body.h"
@@ -61,6 +62,20 @@ struct CutEvent {
 // parent's measure; the split then opens along the cut. Cuts go to *cuts (if given).
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points,
                                       double min_size = 0, std::vector<CutEvent>* cuts = nullptr);
+
+// Whether insert_cracks(body, points, min_size) would change anything at crack point v (cut an
+// element of its star, or split it) when it comes to v with the body as it is now: the same
+// decisions on the same helpers (driving element, band already cracked, tension across the
+// opening, split plan, element cut), read only. on_crack: per node, whether it lies on a physical
+// crack, as insert_cracks marks them (a split node or its copy; with min_size > 0 also a node made
+// by a cut). fraction: each element's measure as a fraction of its mesh element
+// (Body::piece_fraction); null takes 1, an upper bound, with which a cut is found wherever one
+// would be with the true fractions (the answer stays a superset). So is a body that holds only
+// part of v's neighbourhood (a part of a distributed body) as long as it holds v's whole star:
+// fewer elements around an edge only relax the cut's guards.
+bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_crack,
+                           double min_size = 0,
+                           const std::function<double(int)>& fraction = nullptr);
 
 // The elements of `failed` that a crack has reached: at least one of their nodes is split (a
 // split node or its copy). `erode_cracked` removes only these: erosion opens the body as a split

@@ -1,0 +1,75 @@
+// Forecast of a fracture check from one body's failed elements and crack flags.
+#include "fracture/crack_forecast.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "fracture/nodal_fracture.h"
+
+namespace fracdem
+{
+
+CrackNodes whole_crack_nodes(const Body& whole, double min_size)
+{
+  const int nn = whole.num_nodes();
+  CrackNodes c;
+  c.split.assign(nn, 0);
+  c.whole_star.assign(nn, 1);
+  for (int w = 0; w < nn; ++w)
+    if (whole.parents()[w] >= 0) c.split[w] = c.split[whole.parents()[w]] = 1;
+  c.on_crack = c.split;
+  if (min_size > 0)
+    for (size_t k = 0; k < whole.cut_nodes().size(); k += 3)
+      c.on_crack[whole.cut_nodes()[k]] = 1;
+  return c;
+}
+
+namespace
+{
+// crack_body's erosion (BodyDriver::erode_collapsed) of active failed element e.
+bool erodes(const Body& body, const CrackNodes& nodes, const FractureCheckRule& rule, int e)
+{
+  if (!rule.erode_cracked) return body.element_time_step(e) < rule.dt;
+  const Mesh& mesh = body.mesh();
+  for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+    if (nodes.split[mesh.conn[e][a]]) return true; // elements_on_crack
+  return false;
+}
+} // namespace
+
+bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureCheckRule& rule,
+                      const std::function<double(int)>& fraction)
+{
+  const std::vector<int>* failed = body.failed_elements();
+  if (!failed) return true; // the last evaluation saw part of the elements
+  const Mesh& mesh = body.mesh();
+  std::vector<int> points;
+  for (int e : *failed) {
+    if (!mesh.active[e]) continue;
+    if (erodes(body, nodes, rule, e)) { if (std::getenv("FORECAST_DEBUG")) std::fprintf(stderr, "DBG erodes %d\n", e); return true; }
+    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+      points.push_back(mesh.conn[e][a]);
+  }
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  for (int v : points)
+    if (!nodes.whole_star[v] ||
+        crack_point_may_split(body, v, nodes.on_crack, rule.min_size, fraction)) {
+      if (std::getenv("FORECAST_DEBUG")) std::fprintf(stderr, "DBG point %d whole %d of %zu\n", v, nodes.whole_star[v], points.size());
+      return true; }
+  return false;
+}
+
+bool pinched_crack_node(const Body& whole, const CrackNodes& nodes)
+{
+  const std::vector<int>& cuts = whole.cut_nodes();
+  std::vector<char> on(nodes.split);
+  for (size_t k = 0; k < cuts.size(); k += 3)
+    on[cuts[k]] = 1;
+  for (int v = 0; v < whole.num_nodes(); ++v)
+    if (on[v] && whole.plan_separation(v).splittable()) return true;
+  return false;
+}
+
+} // namespace fracdem
