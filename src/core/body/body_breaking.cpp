@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "body/body_setup.h"
@@ -31,6 +32,78 @@ std::vector<int64_t> element_costs(const Body& body)
       cost[e] =
           points_per_elem(mesh.etype[e]) * (body.element_damaged(e) ? kDamagedElementCost : 1);
   return cost;
+}
+
+// The parts decide a crack point alone only where its whole star is theirs (fracture_may_change),
+// so the partition keeps the stars of the crack points (the nodes of the failed elements) whole:
+// stars that overlap form a cluster (a crack band and the elements around it), and each cluster is
+// one vertex of the dual graph that METIS partitions, so it goes to one part with its cost while
+// the other elements balance around it. A cluster above the mean part's cost stays elements (its
+// points on part boundaries then gather the body at every check). Per element: its vertex.
+std::vector<int> crack_vertices(const Body& whole, const std::vector<int64_t>& cost, int nparts,
+                                int& vertices)
+{
+  const Mesh& mesh = whole.mesh();
+  const NodeStars& stars = whole.stars();
+  const int ne = mesh.num_elems();
+  std::vector<int> root(ne);
+  for (int e = 0; e < ne; ++e)
+    root[e] = e;
+  const auto find = [&root](int e) {
+    while (root[e] != e)
+      e = root[e] = root[root[e]];
+    return e;
+  };
+  for (int f = 0; f < ne; ++f) {
+    double n[3];
+    if (!mesh.active[f] || whole.element_failure(f, n) < 1.0) continue;
+    for (int a = 0; a < nodes_per_elem(mesh.etype[f]); ++a)
+      for (const int* e = stars.begin(mesh.conn[f][a]); e != stars.end(mesh.conn[f][a]); ++e)
+        root[find(*e)] = find(f);
+  }
+  std::vector<double> weight(ne, 0.0);
+  double total = 0;
+  for (int e = 0; e < ne; ++e) {
+    weight[find(e)] += static_cast<double>(cost[e]);
+    total += static_cast<double>(cost[e]);
+  }
+  std::vector<int> vertex(ne, -1);
+  vertices = 0;
+  for (int e = 0; e < ne; ++e) {
+    const int r = find(e);
+    const bool contract = r != e || weight[r] > static_cast<double>(cost[e]);
+    if (contract && weight[r] <= total / nparts) {
+      if (vertex[r] < 0) vertex[r] = vertices++;
+      vertex[e] = vertex[r];
+    } else {
+      vertex[e] = vertices++;
+    }
+  }
+  return vertex;
+}
+
+// METIS parts of the active elements (cost: their weights) with each crack cluster in one part.
+std::vector<int> partition_keeping_cracks(const Body& whole, const std::vector<int64_t>& cost,
+                                          int nparts)
+{
+  const Mesh& mesh = whole.mesh();
+  int vertices = 0;
+  const std::vector<int> vertex = crack_vertices(whole, cost, nparts, vertices);
+  const balance::Graph dual = element_dual_graph(mesh, cost);
+  std::vector<int64_t> weight(vertices, 0);
+  std::vector<balance::WeightedPair> pairs;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    weight[vertex[e]] += dual.vwgt[e];
+    for (int64_t k = dual.xadj[e]; k < dual.xadj[e + 1]; ++k)
+      if (vertex[e] < vertex[dual.adjncy[k]])
+        pairs.push_back({vertex[e], vertex[dual.adjncy[k]], dual.adjwgt[k]});
+  }
+  const std::vector<int> by_vertex =
+      balance::partition_kway(balance::build_graph(vertices, weight, pairs), nparts);
+  std::vector<int> part(mesh.num_elems(), -1);
+  for (int e = 0; e < mesh.num_elems(); ++e)
+    if (mesh.active[e]) part[e] = by_vertex[vertex[e]];
+  return part;
 }
 
 int inactive_elements(const Mesh& mesh)
@@ -146,7 +219,7 @@ std::vector<int> BodyDriver::repartition(const Body& whole, const std::vector<in
   std::vector<int64_t> cost = element_costs(whole);
   for (int64_t& c : cost)
     c = std::max<int64_t>(c, 1); // METIS weights >= 1 (eroded elements take no part anyway)
-  std::vector<int> part = partition_elements(mesh, host_.nprocs, cost);
+  std::vector<int> part = partition_keeping_cracks(whole, cost, host_.nprocs);
   std::vector<int> old(owner);
   old.resize(part.size(), -1); // elements made by cuts had no owner
   std::vector<double> moved(part.size(), 1.0);

@@ -2,8 +2,6 @@
 #include "fracture/crack_forecast.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 
 #include "fracture/nodal_fracture.h"
 
@@ -47,7 +45,7 @@ bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureC
   std::vector<int> points;
   for (int e : *failed) {
     if (!mesh.active[e]) continue;
-    if (erodes(body, nodes, rule, e)) { if (std::getenv("FORECAST_DEBUG")) std::fprintf(stderr, "DBG erodes %d\n", e); return true; }
+    if (erodes(body, nodes, rule, e)) return true;
     for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
       points.push_back(mesh.conn[e][a]);
   }
@@ -55,9 +53,8 @@ bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureC
   points.erase(std::unique(points.begin(), points.end()), points.end());
   for (int v : points)
     if (!nodes.whole_star[v] ||
-        crack_point_may_split(body, v, nodes.on_crack, rule.min_size, fraction)) {
-      if (std::getenv("FORECAST_DEBUG")) std::fprintf(stderr, "DBG point %d whole %d of %zu\n", v, nodes.whole_star[v], points.size());
-      return true; }
+        crack_point_may_split(body, v, nodes.on_crack, rule.min_size, fraction))
+      return true;
   return false;
 }
 
