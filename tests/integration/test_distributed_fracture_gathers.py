@@ -6,7 +6,7 @@ Scene (inputs/in.distributed_fracture, as test_distributed_fracture): the free R
 Its crack is made at steps 50, 160 and 165 (splits and the two fragments); from then on about 190
 elements stay failed, so every check step finds a failed element. Two runs of 300 and 600 steps
 under the PMPI counter (libfracdem_mpicount.so); their difference is exactly the traffic of steps
-301..600, all after the last topology change. Asserted at np 2 and 3, on every rank:
+301..600, all after the last topology change. Asserted at np 2, 3 and 4, on every rank:
 
 * the last split / fragment line of the log comes before step 300 (the window follows the last
   change), and the 600-step run logs the same lines as the replicated np 1 run;
@@ -16,7 +16,8 @@ under the PMPI counter (libfracdem_mpicount.so); their difference is exactly the
   880e97a) every one of the 60 check steps gathered the body and took a second reduction: 60
   MPI_Gatherv (with 60 MPI_Gather of the sizes) and 120 check reductions per rank (measured with
   this branch's build whose forecast says "may change" everywhere, which is main's path; over the
-  whole 600-step run 111 gathers of the 120 check steps).
+  whole 600-step run 111 gathers of the 120 check steps; now 3 at np 2 and 3, the three
+  changes, and 24 at np 4, where the checks between the changes gather too).
 """
 import os
 import re
@@ -49,7 +50,7 @@ ref = ds.run_bar(args.exe, 1, "replicated", f"every {EVERY}", LONG, vtk=LONG)
 damage = fem.read_vtu(os.path.join(ref["wd"], f"bar_{LONG:010d}.vtu"))["cell_data"]["damage"]
 failed = int((damage >= 1.0).sum())
 h.check(failed > 0, f"np 1: {failed} failed elements at step {LONG}")
-for np_ in (2, 3):
+for np_ in (2, 3, 4):
     wd = tempfile.mkdtemp(prefix=f"distributed_fracture_gathers_{np_}_")
     meshgen.write_gmsh22(os.path.join(wd, "bar3d.msh"), *meshgen.sheared_tet_bar())
     h.copy_inputs(["in.distributed_fracture"], wd)

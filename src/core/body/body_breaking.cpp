@@ -88,6 +88,7 @@ std::vector<int> partition_keeping_cracks(const Body& whole, const std::vector<i
   const Mesh& mesh = whole.mesh();
   int vertices = 0;
   const std::vector<int> vertex = crack_vertices(whole, cost, nparts, vertices);
+  if (vertices == mesh.num_elems()) return partition_elements(mesh, nparts, cost); // no cluster
   const balance::Graph dual = element_dual_graph(mesh, cost);
   std::vector<int64_t> weight(vertices, 0);
   std::vector<balance::WeightedPair> pairs;

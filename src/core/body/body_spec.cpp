@@ -629,9 +629,10 @@ const char* distributed_refusal(const BodySpec& s)
   return s.rigid ? "'rigid yes'" : nullptr;
 }
 
-// A distributed body that breaks or erodes is gathered on rank 0 at its changes (once cracked, at
-// every check), and its pieces' contact is not timed against the replicated one yet
-// (docs/distributed_bodies.md): taken when asked, not by size.
+// A distributed body that breaks or erodes is gathered on rank 0 at its changes (a breaking one
+// also at the checks its parts cannot decide alone: while its crack grows, or where a crack band
+// is too large to keep in one part), and neither that nor its pieces' contact is timed against
+// the replicated body yet (docs/distributed_bodies.md): taken when asked, not by size.
 const char* distributed_default_refusal(const BodySpec& s)
 {
   if (s.fracture_every > 0) return "'fracture'";
