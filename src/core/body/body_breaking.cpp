@@ -210,9 +210,10 @@ void BodyDriver::count_whole(const Body& whole)
   whole_fragments_ = fragment_count(whole);
 }
 
-// METIS parts of the active elements, relabelled so that as many elements as possible stay with
-// the rank that held them (as balance/graph relabels); an eroded element stays where it was (its
-// material state still counts in the dissipated energy; the free nodes it leaves go on moving).
+// METIS parts of the active elements (each crack cluster whole: partition_keeping_cracks),
+// relabelled so that as many elements as possible stay with the rank that held them (as
+// balance/graph relabels); an eroded element stays where it was (its material state still counts
+// in the dissipated energy; the free nodes it leaves go on moving).
 std::vector<int> BodyDriver::repartition(const Body& whole, const std::vector<int>& owner) const
 {
   const Mesh& mesh = whole.mesh();
