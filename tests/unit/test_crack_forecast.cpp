@@ -20,35 +20,45 @@ using namespace fracdem;
 namespace
 {
 
+// Steps a driver of `keywords` (a body of `dimension`) as a host does, to step `last`; `probe`
+// (optional) gets the body after every step.
+void run_body(const std::string& keywords, int dimension, double dt, int last,
+              const std::function<void(const Body&, int)>& probe, Body* out = nullptr)
+{
+  BodySpec spec = parse_body_spec(fracdem_test::split(keywords));
+  check_body_spec(spec, {}, dimension, dimension);
+  BodyHost host = serial_host();
+  host.print = [](const std::string&, bool, bool) {};
+  BodyDriver driver;
+  driver.attach(spec, "b", host);
+  driver.build(dimension);
+  driver.start_run();
+  driver.compute_forces(nullptr, 0, dt, false);
+  for (int step = 1; step <= last; ++step) {
+    driver.begin_step(dt);
+    driver.compute_forces(nullptr, step, dt, true);
+    driver.end_step(step, dt);
+    if (probe) probe(driver.body(), step);
+  }
+  if (out) *out = driver.body();
+}
+
 // The rankine bar of test_body_driver (40 x 10 tri3 cells, pulled at xmax) run for `steps` steps
 // without fracture checks: a body with crack points, none split yet.
 class CrackForecastTest : public fracdem_test::TempDirTest
 {
 protected:
-  Body failed_bar(int steps, int every = 100000)
+  Body failed_bar(int steps)
   {
     write_gmsh22(make_rect_mesh(40, 10, 0.2, 0.05, {0, 0}, ElemType::Tri3),
                  (dir_ / "bar.msh").string());
-    BodySpec spec = parse_body_spec(fracdem_test::split(
-        "file " + (dir_ / "bar.msh").string() +
-        " type 2 density 2400 youngs 30e9 poisson 0.2 plane stress thickness 0.05 material "
-        "rankine strength 3e6 fracture_energy 100 fixed xmin x fixed ymin y prescribed_velocity "
-        "xmax 0.1 0 0 ramp 1e-4 fracture nodal every " + std::to_string(every)));
-    check_body_spec(spec, {}, 2, 2);
-    BodyHost host = serial_host();
-    host.print = [](const std::string&, bool, bool) {};
-    BodyDriver driver;
-    driver.attach(spec, "b", host);
-    driver.build(2);
-    constexpr double dt = 5e-7;
-    driver.start_run();
-    driver.compute_forces(nullptr, 0, dt, false);
-    for (int step = 1; step <= steps; ++step) {
-      driver.begin_step(dt);
-      driver.compute_forces(nullptr, step, dt, true);
-      driver.end_step(step, dt);
-    }
-    return driver.body();
+    Body body;
+    run_body("file " + (dir_ / "bar.msh").string() +
+                 " type 2 density 2400 youngs 30e9 poisson 0.2 plane stress thickness 0.05 "
+                 "material rankine strength 3e6 fracture_energy 100 fixed xmin x fixed ymin y "
+                 "prescribed_velocity xmax 0.1 0 0 ramp 1e-4 fracture nodal every 100000",
+             2, 5e-7, steps, nullptr, &body);
+    return body;
   }
 };
 
@@ -114,23 +124,9 @@ void torn_bar(const std::filesystem::path& dir, double min_size, int first, int 
                          "3e6 fracture_energy 100 velocity left -5 0 0 velocity right 5 0 0 "
                          "fracture nodal every 5";
   if (min_size > 0) keywords += " min_size " + std::to_string(min_size);
-  keywords += " contact_bodies no";
-  BodySpec spec = parse_body_spec(fracdem_test::split(keywords));
-  check_body_spec(spec, {}, 3, 3);
-  BodyHost host = serial_host();
-  host.print = [](const std::string&, bool, bool) {};
-  BodyDriver driver;
-  driver.attach(spec, "b", host);
-  driver.build(3);
-  constexpr double dt = 2e-7;
-  driver.start_run();
-  driver.compute_forces(nullptr, 0, dt, false);
-  for (int step = 1; step <= last; ++step) {
-    driver.begin_step(dt);
-    driver.compute_forces(nullptr, step, dt, true);
-    driver.end_step(step, dt);
-    if (step >= first && step % 3 == 0) probe(driver.body(), step);
-  }
+  run_body(keywords + " contact_bodies no", 3, 2e-7, last, [&](const Body& body, int step) {
+    if (step >= first && step % 3 == 0) probe(body, step);
+  });
 }
 
 // Whether the dry run at every crack point of `body` says "may split" exactly where insert_cracks,
