@@ -10,12 +10,16 @@ replicated at 1 rank.
   both replicated at np 1 in the same order: both energy files and every thermo column within
   1e-10 of its scale (the issue's figure for elastic runs); the blocks collide (contact work
   beyond 1 % of the kinetic energy, which falls below half and comes back above half).
+* The run split while the blocks touch, at np 2 and 3 against np 1, and its restart file written
+  at np 3 continued at np 2 distributed and at np 1 replicated (the pairs start afresh at a new
+  run, at every rank count alike).
 * The same with contact_edges no, and in 2D (two tri3 squares in plane strain, node to edge) up
   to the step where the scene starts to amplify round-off (the replicated run at np 3 departs
   from np 1 by itself there), and over the whole run within 10 times that departure.
 * Two distributed bodies with contact_bodies yes: refused by name.
 """
 import os
+import shutil
 import sys
 import tempfile
 
@@ -50,19 +54,32 @@ def write_blocks(wd, dim, gap=0.0002):
     meshgen.write_gmsh22(os.path.join(wd, "b.msh"), X + shift, E, group)
 
 
-def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, expect_fail=False):
+def result(wd, out):
+    blocks = h.thermo_blocks(out)
+    return dict(wd=wd, out=out, thermo=(blocks[-1][0], [r for _, rs in blocks for r in rs]),
+                energy={b: h.read_csv(os.path.join(wd, f"energy_{b}.csv")) for b in "ab"})
+
+
+def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, restart_at=0, expect_fail=False):
     wd = tempfile.mkdtemp(prefix=f"distributed_pair_contact_{np_}_")
     write_blocks(wd, dim)
     h.copy_inputs(["in.distributed_pair_contact"], wd)
     out = h.run(args.exe, "in.distributed_pair_contact", np_=np_, workdir=wd,
                 variables=dict(pa=pa, pb=pb, first=first, dim=dim, edges=edges, steps=steps,
-                               dt=2e-7, speed=SPEED),
+                               dt=2e-7, speed=SPEED, restart_at=restart_at),
                 expect_fail=expect_fail)
-    if expect_fail:
-        return out
-    blocks = h.thermo_blocks(out)
-    return dict(out=out, thermo=(blocks[-1][0], [r for _, rs in blocks for r in rs]),
-                energy={b: h.read_csv(os.path.join(wd, f"energy_{b}.csv")) for b in "ab"})
+    return out if expect_fail else result(wd, out)
+
+
+def resume(wd, np_, pa, pb, rest):
+    """in.distributed_pair_contact_continue from the restart file of the run in wd."""
+    wd2 = tempfile.mkdtemp(prefix=f"distributed_pair_contact_continue_{np_}_")
+    for f in ("pair.restart", "a.msh", "b.msh"):
+        shutil.copy(os.path.join(wd, f), wd2)
+    h.copy_inputs(["in.distributed_pair_contact_continue"], wd2)
+    out = h.run(args.exe, "in.distributed_pair_contact_continue", np_=np_, workdir=wd2,
+                variables=dict(pa=pa, pb=pb, rest=rest, dt=2e-7, speed=SPEED))
+    return result(wd2, out)
 
 
 def check_collide(label, ref):
@@ -94,6 +111,19 @@ for first, order in ((1, "a's fix first"), (0, "b's fix first")):
                 run(np_, "distributed", "replicated", first=first))
     compare(f"3D, {order}, np 3, b distributed", ref,
             run(3, "replicated", "distributed", first=first))
+
+# A run split while the blocks touch (step 200), its restart file written at np 3 with a
+# distributed: the pairs between two bodies start afresh at a new run and at a restart
+# (docs/fix_fem_body.md), at every rank count alike. The split runs at np 2 and 3 against the
+# split run at np 1; the restart continued at np 2 distributed and at np 1 replicated.
+SPLIT = 200
+ref = run(1, "replicated", "replicated", restart_at=SPLIT)
+for np_ in (2, 3):
+    got = run(np_, "distributed", "replicated", restart_at=SPLIT)
+    compare(f"3D, run split at step {SPLIT}, np {np_}, a distributed", ref, got)
+for np_, pa in ((2, "distributed"), (1, "replicated")):
+    compare(f"3D, restart of np 3 at step {SPLIT} continued at np {np_}, a {pa}", ref,
+            resume(got["wd"], np_, pa, "replicated", STEPS - SPLIT))
 
 # Node to facet alone.
 ref = run(1, "replicated", "replicated", edges="no")

@@ -997,7 +997,7 @@ bool BodyDriver::replays_body_contacts(bool count_work) const
   if (count_work) return false;
   // A distributed body and its replicated partners: all of them replay, or none.
   if (!pair_group_.empty()) {
-    if (!pair_continues_) return false;
+    if (!(distributed_ ? this : pair_body_)->pair_continues_) return false;
     for (const BodyDriver* m : pair_group_)
       if (!m->contacts_held_) return false;
     return true;

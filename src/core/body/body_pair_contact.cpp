@@ -49,10 +49,13 @@ std::vector<BodyDriver*> BodyDriver::pair_group(const std::vector<BodyDriver*>& 
 
 // The distributed body lists its replicated partners (the earlier body's call evaluates a pair,
 // as the scene does); a replicated body notes its distributed partner. The pairs start afresh in
-// every run, as the scene's do.
+// every run, as the scene's do. The group continues (its held contact forces are replayed at the
+// set-up: replays_body_contacts, the distributed body's flag for all) where its bodies are the
+// last run's and the pairs were evaluated since the last call, as the scene's rule (a second
+// call without a step between, e.g. write_restart's, makes the next run start afresh).
 void BodyDriver::take_pair_group(const std::vector<BodyDriver*>& group)
 {
-  pair_continues_ = !group.empty() && group == pair_group_;
+  pair_continues_ = !group.empty() && group == pair_group_ && !pairs_.empty() && !pairs_pending_;
   pair_group_ = group;
   pairs_.clear();
   pair_body_ = nullptr;
