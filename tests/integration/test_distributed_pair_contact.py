@@ -19,6 +19,7 @@ replicated at 1 rank.
 * Two distributed bodies with contact_bodies yes: refused by name.
 """
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -30,7 +31,9 @@ import harness as h
 
 args = h.parse_args()
 sys.path.insert(0, os.path.join(h.ROOT, "python"))
+sys.path.insert(0, os.path.join(h.ROOT, "tests", "support"))
 from fracdem import meshgen  # noqa: E402
+import mpicount  # noqa: E402
 
 TOL = ds.TOL
 SPEED = 5.0
@@ -160,6 +163,54 @@ for np_ in (2, 3):
     h.check(w < 10 * w_rep, f"2D, np {np_}, a distributed: energy files within {w:.1e} of each "
                             f"column's scale over {STEPS} steps; the replicated run at np 3: "
                             f"{w_rep:.1e}")
+
+# Cost, with the PMPI counter at np 3 (difference of a 200- and a 100-step run, blocks in
+# contact, FE only: no re-neighbouring in between): the pair adds no collective (the bodies'
+# code takes the distributed body's travel flag of its pieces, one integer per host step, its
+# stable-step re-estimate and the output's sums, as test_distributed_self_contact counts, and
+# the replicated body its own all-reductions of every step, BodyDriver::compute_forces, and its
+# scene's balance checks), only neighbour messages (sparse_exchange: the pieces' 2 per partner
+# and step, the pair's 1 to rank 0 and 1 back).
+LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")
+h.check(os.path.isfile(LIB), f"PMPI counter {LIB} built")
+wd = tempfile.mkdtemp(prefix="distributed_pair_contact_counts_")
+write_blocks(wd, 3)
+h.copy_inputs(["in.distributed_pair_contact"], wd)
+
+
+def counted(steps):
+    variables = dict(pa="distributed", pb="replicated", first=1, dim=3, edges="yes",
+                     steps=steps, dt=2e-7, speed=SPEED, restart_at=0)
+    return mpicount.run(args.exe, "in.distributed_pair_contact", 3, wd, LIB, f"c{steps}",
+                        variables)
+
+
+_, short = counted(100)
+_, long_ = counted(200)
+for d in mpicount.difference(long_, short):
+    restep, travel, output, sends, nbytes, other, replicated = 0, 0, 0, 0, 0, [], 0
+    for (module, caller, func, cat), (count, nb) in d["sites"].items():
+        if not count or "fracdem::" not in caller:
+            continue  # the host's own (its neighbour check, thermo)
+        if cat == "send" and "sparse_exchange" in caller:
+            sends, nbytes = sends + count, nbytes + nb
+        if cat != "coll":
+            continue
+        if "energy_row" in caller or "vector_entry" in caller:
+            output += count
+        elif "check_squeezed" in caller and func == "MPI_Allreduce":
+            restep += count
+        elif "distributed_forces" in caller and func == "MPI_Allreduce" and nb <= 4 * count:
+            travel += count
+        elif re.search(r"BodyDriver::compute_forces|ContactScene::check_balance", caller):
+            replicated += count
+        else:
+            other.append(f"{count} x {func} in {caller}")
+    h.check(restep == 1 and travel == 100 and not other,
+            f"rank {d['rank']}: in 100 steps no collective of the pair contact (other "
+            f"collectives: {'; '.join(other) or 'none'}; the travel flag's {travel} one-integer "
+            f"reductions, {restep} stable-step re-estimate, {output} output sums, {replicated} "
+            f"of the replicated body); {sends} messages, {nbytes / 100:.0f} bytes per step")
 
 # Two distributed bodies in contact: refused by name.
 out = run(2, "distributed", "distributed", steps=1, expect_fail=True)

@@ -377,7 +377,7 @@ private:
   bool pair_continues_ = false, pairs_pending_ = false, pair_maps_due_ = true;
   BodyDriver* pair_body_ = nullptr;
   bool pair_first_ = false;
-  std::vector<int> pair_local_, pair_own_facets_, pair_sent_mine_;
+  std::vector<int> pair_local_, pair_own_facets_, pair_own_free_, pair_sent_mine_;
   std::vector<int> pair_known_nodes_, pair_known_facets_; // rank 0, this step
   std::vector<char> pair_seen_, pair_facet_known_;
   std::vector<double> pair_x_, pair_v_, pair_f_;

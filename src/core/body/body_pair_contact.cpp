@@ -121,6 +121,15 @@ void BodyDriver::build_pair_maps()
   pair_own_facets_.clear();
   for (size_t k = 0; k < surface_.facets.size(); ++k)
     if (whole.part[k] == part_.part) pair_own_facets_.push_back(static_cast<int>(k));
+  // The free nodes this part owns (surface nodes of no facet: every element around them eroded).
+  std::vector<char> on_facet(surf_m_.size(), 0);
+  for (const Facet& fc : surface_.facets)
+    for (int j = 0; j < fc.nn; ++j)
+      on_facet[fc.n[j]] = 1;
+  pair_own_free_.clear();
+  for (int g : surface_.nodes)
+    if (!on_facet[g] && pair_local_[g] >= 0 && part_.owns(pair_local_[g]))
+      pair_own_free_.push_back(g);
   pair_known_nodes_.clear();
   pair_known_facets_.clear();
   if (host_.rank != 0) return;
@@ -132,7 +141,8 @@ void BodyDriver::build_pair_maps()
 }
 
 // This part's facets whose box meets the partner's surface box grown by `grow`, and their nodes'
-// positions and velocities: [facet count, facets, then per node (global number, x, v)].
+// positions and velocities (with the part's free nodes in that box): [facet count, facets, then
+// per node (global number, x, v)].
 std::vector<double> BodyDriver::pair_message(const BodyDriver& other, double grow)
 {
   const Box near = grown_box(other.surface_.nodes, other.body_.positions().data(), grow);
@@ -154,6 +164,13 @@ std::vector<double> BodyDriver::pair_message(const BodyDriver& other, double gro
     pair_sent_mine_.insert(pair_sent_mine_.end(), fc.n.begin(), fc.n.begin() + fc.nn);
   }
   out[0] = static_cast<double>(out.size() - 1);
+  for (int g : pair_own_free_) {
+    const double* q = &x[3 * pair_local_[g]];
+    bool in = true;
+    for (int d = 0; d < 3; ++d)
+      in = in && q[d] >= near.lo[d] && q[d] <= near.hi[d];
+    if (in) pair_sent_mine_.push_back(g);
+  }
   std::sort(pair_sent_mine_.begin(), pair_sent_mine_.end());
   pair_sent_mine_.erase(std::unique(pair_sent_mine_.begin(), pair_sent_mine_.end()),
                         pair_sent_mine_.end());
