@@ -12,7 +12,8 @@ replicated at 1 rank.
   beyond 1 % of the kinetic energy, which falls below half and comes back above half).
 * The run split while the blocks touch, at np 2 and 3 against np 1, and its restart file written
   at np 3 continued at np 2 distributed and at np 1 replicated (the pairs start afresh at a new
-  run, at every rank count alike).
+  run, at every rank count alike); split without a restart file (the held contact forces
+  replayed) at np 3 against np 1, either fix first.
 * The same with contact_edges no, and in 2D (two tri3 squares in plane strain, node to edge) up
   to the step where the scene starts to amplify round-off (the replicated run at np 3 departs
   from np 1 by itself there), and over the whole run within 10 times that departure.
@@ -63,13 +64,14 @@ def result(wd, out):
                 energy={b: h.read_csv(os.path.join(wd, f"energy_{b}.csv")) for b in "ab"})
 
 
-def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, restart_at=0, expect_fail=False):
+def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, restart_at=0, write=1,
+        expect_fail=False):
     wd = tempfile.mkdtemp(prefix=f"distributed_pair_contact_{np_}_")
     write_blocks(wd, dim)
     h.copy_inputs(["in.distributed_pair_contact"], wd)
     out = h.run(args.exe, "in.distributed_pair_contact", np_=np_, workdir=wd,
                 variables=dict(pa=pa, pb=pb, first=first, dim=dim, edges=edges, steps=steps,
-                               dt=2e-7, speed=SPEED, restart_at=restart_at),
+                               dt=2e-7, speed=SPEED, restart_at=restart_at, write=write),
                 expect_fail=expect_fail)
     return out if expect_fail else result(wd, out)
 
@@ -127,6 +129,15 @@ for np_ in (2, 3):
 for np_, pa in ((2, "distributed"), (1, "replicated")):
     compare(f"3D, restart of np 3 at step {SPLIT} continued at np {np_}, a {pa}", ref,
             resume(got["wd"], np_, pa, "replicated", STEPS - SPLIT))
+
+# Split without write_restart (whose set-up of the bodies makes the next run evaluate anew): the
+# set-up of the second run replays the held contact forces of both bodies, at every rank count
+# alike, with either fix first.
+for first in (1, 0):
+    ref = run(1, "replicated", "replicated", first=first, restart_at=SPLIT, write=0)
+    compare(f"3D, run split at step {SPLIT} (no restart file), fix {'ab'[1 - first]} first, np 3,"
+            " a distributed", ref,
+            run(3, "distributed", "replicated", first=first, restart_at=SPLIT, write=0))
 
 # Node to facet alone.
 ref = run(1, "replicated", "replicated", edges="no")
