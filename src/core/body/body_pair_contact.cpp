@@ -28,6 +28,31 @@ Box grown_box(const std::vector<int>& nodes, const double* x, double grow)
   }
   return b;
 }
+// Candidates (sphere, box) of a search over spheres (x, y, z, radius 0 each) and boxes, sorted by
+// sphere then box.
+std::vector<std::pair<int, int>> candidates(const std::vector<Aabb>& boxes,
+                                            const std::vector<double>& spheres, double buffer)
+{
+  BufferedSearch search(buffer);
+  search.build(boxes, spheres.data(), static_cast<int>(spheres.size() / 4));
+  return search.candidates();
+}
+
+// Per rank, the forces of the nodes it sent (3 each, zeros where another rank gets the node).
+std::vector<std::vector<double>> forces_back(const std::vector<std::vector<int>>& sent,
+                                             const std::vector<std::vector<char>>& route,
+                                             const std::vector<double>& f)
+{
+  std::vector<std::vector<double>> back(sent.size());
+  for (size_t r = 0; r < sent.size(); ++r) {
+    back[r].assign(3 * sent[r].size(), 0.0);
+    for (size_t i = 0; i < sent[r].size(); ++i)
+      if (route[r][i])
+        std::copy(&f[3 * static_cast<size_t>(sent[r][i])],
+                  &f[3 * static_cast<size_t>(sent[r][i])] + 3, &back[r][3 * i]);
+  }
+  return back;
+}
 } // namespace
 
 // Every body with contact_bodies yes, in the host's order, where one of them is distributed (and
@@ -238,19 +263,14 @@ std::vector<std::vector<double>> BodyDriver::resolve_pair(size_t k, double dt, d
   for (size_t f = 0; f < os.facets.size(); ++f)
     boxes[f] = node_box(os.facets[f].n.data(), os.facets[f].nn, ox);
   std::vector<double> spheres(4 * pair_known_nodes_.size(), 0.0);
-  std::vector<int> index(pair_known_nodes_.size());
-  for (size_t i = 0; i < pair_known_nodes_.size(); ++i) {
-    const int g = pair_known_nodes_[i];
-    index[i] = static_cast<int>(std::lower_bound(surface_.nodes.begin(), surface_.nodes.end(), g) -
-                                surface_.nodes.begin());
-    std::copy(&pair_x_[3 * static_cast<size_t>(g)], &pair_x_[3 * static_cast<size_t>(g)] + 3,
-              &spheres[4 * i]);
-  }
-  BufferedSearch mine(buffer);
-  mine.build(boxes, spheres.data(), static_cast<int>(index.size()));
-  std::vector<std::pair<int, int>> mine_cand;
-  for (const auto& c : mine.candidates())
-    mine_cand.emplace_back(index[c.first], c.second);
+  for (size_t i = 0; i < pair_known_nodes_.size(); ++i)
+    std::copy(&pair_x_[3 * static_cast<size_t>(pair_known_nodes_[i])],
+              &pair_x_[3 * static_cast<size_t>(pair_known_nodes_[i])] + 3, &spheres[4 * i]);
+  std::vector<std::pair<int, int>> mine_cand = candidates(boxes, spheres, buffer);
+  for (auto& c : mine_cand)
+    c.first = static_cast<int>(std::lower_bound(surface_.nodes.begin(), surface_.nodes.end(),
+                                                pair_known_nodes_[c.first]) -
+                               surface_.nodes.begin());
   // The partner's surface nodes on the known facets.
   boxes.resize(pair_known_facets_.size());
   for (size_t j = 0; j < pair_known_facets_.size(); ++j) {
@@ -260,11 +280,9 @@ std::vector<std::vector<double>> BodyDriver::resolve_pair(size_t k, double dt, d
   spheres.assign(4 * os.nodes.size(), 0.0);
   for (size_t s = 0; s < os.nodes.size(); ++s)
     std::copy(&ox[3 * os.nodes[s]], &ox[3 * os.nodes[s]] + 3, &spheres[4 * s]);
-  BufferedSearch theirs(buffer);
-  theirs.build(boxes, spheres.data(), static_cast<int>(os.nodes.size()));
-  std::vector<std::pair<int, int>> their_cand;
-  for (const auto& c : theirs.candidates())
-    their_cand.emplace_back(c.first, pair_known_facets_[c.second]);
+  std::vector<std::pair<int, int>> their_cand = candidates(boxes, spheres, buffer);
+  for (auto& c : their_cand)
+    c.second = pair_known_facets_[c.second];
   const auto mine_on_other = [&] {
     p.mine_on_other.resolve(surface_, me, os, them, false, dt, mine_cand.data(), mine_cand.size());
   };
@@ -290,15 +308,7 @@ std::vector<std::vector<double>> BodyDriver::resolve_pair(size_t k, double dt, d
     else
       p.edges.evaluate(surface_, me, os, them, false, dt, [&](int e, int) { return known(e); });
   }
-  std::vector<std::vector<double>> back(pair_sent_.size());
-  for (size_t r = 0; r < pair_sent_.size(); ++r) {
-    back[r].assign(3 * pair_sent_[r].size(), 0.0);
-    for (size_t i = 0; i < pair_sent_[r].size(); ++i)
-      if (pair_route_[r][i])
-        std::copy(&pair_f_[3 * static_cast<size_t>(pair_sent_[r][i])],
-                  &pair_f_[3 * static_cast<size_t>(pair_sent_[r][i])] + 3, &back[r][3 * i]);
-  }
-  return back;
+  return forces_back(pair_sent_, pair_route_, pair_f_);
 }
 
 // The forces of the nodes this part sent (3 per node, pair_message order) into f (part nodes).
