@@ -17,6 +17,9 @@ replicated at 1 rank.
 * The same with contact_edges no, and in 2D (two tri3 squares in plane strain, node to edge) up
   to the step where the scene starts to amplify round-off (the replicated run at np 3 departs
   from np 1 by itself there), and over the whole run within 10 times that departure.
+* A breaking distributed body (test_distributed_fracture's torn bar) hit by a replicated elastic
+  block that cracks it: the same split lines and runs at np 2 and 3 as at np 1.
+* Cost, with the PMPI counter at np 3: the pair adds no collective.
 * Two distributed bodies with contact_bodies yes: refused by name.
 """
 import os
@@ -174,6 +177,43 @@ for np_ in (2, 3):
     h.check(w < 10 * w_rep, f"2D, np {np_}, a distributed: energy files within {w:.1e} of each "
                             f"column's scale over {STEPS} steps; the replicated run at np 3: "
                             f"{w_rep:.1e}")
+
+# A breaking distributed body hit by a replicated one: test_distributed_fracture's torn Rankine
+# bar (in.distributed_fracture, 1536 tets, contact_bodies yes) and an elastic 20 mm tet block
+# falling on its top across its crack at 10 m/s (block 1: fix hit, after the bar's). The impact
+# cracks the bar (its surface, parts and free nodes change while the block touches it): the same
+# split / fragment lines at np 2 and 3 distributed as at np 1 replicated, both energy files and
+# the thermo within 1e-10 of each column's scale.
+def run_bar(np_, parallel):
+    wd = tempfile.mkdtemp(prefix=f"distributed_pair_contact_bar_{np_}_")
+    meshgen.write_gmsh22(os.path.join(wd, "bar3d.msh"), *meshgen.sheared_tet_bar())
+    X, E, _ = meshgen.box_tet_mesh(2, 2, 2, 0.02, 0.02, 0.02)
+    X = np.array(X, dtype=float) + np.array([0.09, 0.0402, 0.01])
+    sides = ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3))
+    meshgen.write_gmsh22(os.path.join(wd, "block.msh"), X, np.array(E),
+                         {"all": np.array([[t[i] for i in s] for t in E for s in sides])})
+    h.copy_inputs(["in.distributed_fracture"], wd)
+    out = h.run(args.exe, "in.distributed_fracture", np_=np_, workdir=wd,
+                variables=dict(frac="every 5", parallel=parallel, dt=2e-7, steps=600, speed=5.0,
+                               pieces="yes", block=1))
+    r = ds.result(wd, out)
+    r["hit"] = h.read_csv(os.path.join(wd, "energy_hit.csv"))
+    return r
+
+
+bar = run_bar(1, "replicated")
+work = np.max(np.abs(bar["hit"]["contact_work"]))
+h.check(any("crack at node" in ln for ln in bar["events"]) and
+        work > 0.1 * bar["hit"]["kinetic"][0],
+        f"the block hits the bar ({len(bar['events'])} split / fragment lines, the block's "
+        f"contact work up to {work:.3g} J of its {bar['hit']['kinetic'][0]:.3g} J)")
+for np_ in (2, 3):
+    got = run_bar(np_, "distributed")
+    ds.compare(f"breaking bar hit by a block, np {np_} distributed", bar, got,
+               2400 * 0.16 * 0.04 * 0.04 * SPEED)
+    w, col = h.worst_energy_by_step(bar["hit"], got["hit"])
+    h.check(w < TOL, f"breaking bar hit by a block, np {np_} distributed: the block's energy "
+                     f"file within {w:.1e} of each column's scale (worst: {col})")
 
 # Cost, with the PMPI counter at np 3 (difference of a 200- and a 100-step run, blocks in
 # contact, FE only: no re-neighbouring in between): the pair adds no collective (the bodies'
