@@ -19,6 +19,8 @@ replicated at 1 rank.
   from np 1 by itself there), and over the whole run within 10 times that departure.
 * A breaking distributed body (test_distributed_fracture's torn bar) hit by a replicated elastic
   block that cracks it: the same split lines and runs at np 2 and 3 as at np 1.
+* An eroding distributed body (J2, erosion plastic_strain 0.3) in contact with a replicated
+  block at 150 m/s: the same erosion lines and runs at np 2 and 3 as at np 1.
 * Cost, with the PMPI counter at np 3: the pair adds no collective.
 * Two distributed bodies with contact_bodies yes: refused by name.
 """
@@ -64,17 +66,19 @@ def write_blocks(wd, dim, gap=0.0002):
 def result(wd, out):
     blocks = h.thermo_blocks(out)
     return dict(wd=wd, out=out, thermo=(blocks[-1][0], [r for _, rs in blocks for r in rs]),
+                events=[ln for ln in out.splitlines() if re.search(r"eroded \d+ elements", ln)],
                 energy={b: h.read_csv(os.path.join(wd, f"energy_{b}.csv")) for b in "ab"})
 
 
-def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, restart_at=0, write=1,
-        expect_fail=False):
+def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, restart_at=0, write=1, speed=SPEED,
+        akw="", expect_fail=False):
     wd = tempfile.mkdtemp(prefix=f"distributed_pair_contact_{np_}_")
     write_blocks(wd, dim)
     h.copy_inputs(["in.distributed_pair_contact"], wd)
     out = h.run(args.exe, "in.distributed_pair_contact", np_=np_, workdir=wd,
                 variables=dict(pa=pa, pb=pb, first=first, dim=dim, edges=edges, steps=steps,
-                               dt=2e-7, speed=SPEED, restart_at=restart_at, write=write),
+                               dt=2e-7, speed=speed, restart_at=restart_at, write=write,
+                               akw=akw),
                 expect_fail=expect_fail)
     return out if expect_fail else result(wd, out)
 
@@ -214,6 +218,23 @@ for np_ in (2, 3):
     w, col = h.worst_energy_by_step(bar["hit"], got["hit"])
     h.check(w < TOL, f"breaking bar hit by a block, np {np_} distributed: the block's energy "
                      f"file within {w:.1e} of each column's scale (worst: {col})")
+
+# An eroding distributed body: block a of J2 steel-like yield (1e8 Pa, hardening 1e9) that
+# erodes its elements at plastic strain 0.3, the blocks thrown together at 150 m/s each: the
+# contact goes on over the eroded surface (its facets renewed after each erosion, free nodes
+# among its surface nodes). The same erosion lines at np 2 and 3 distributed as at np 1
+# replicated, both energy files and the thermo within 1e-10 of each column's scale.
+J2 = "material j2 yield 1e8 hardening 1e9 erosion plastic_strain 0.3"
+ref = run(1, "replicated", "replicated", speed=150.0, akw=J2)
+eroded = int(re.search(r"(\d+) eroded in all", ref["events"][-1]).group(1)) if ref["events"] else 0
+h.check(eroded > 10 and np.max(np.abs(ref["energy"]["a"]["contact_work"])) > 0,
+        f"eroding block: {len(ref['events'])} erosion lines, {eroded} elements eroded while the "
+        f"blocks touch")
+for np_ in (2, 3):
+    got = run(np_, "distributed", "replicated", speed=150.0, akw=J2)
+    h.check(got["events"] == ref["events"],
+            f"eroding block, np {np_} distributed: the same {len(ref['events'])} erosion lines")
+    compare(f"eroding block, np {np_} distributed", ref, got)
 
 # Cost, with the PMPI counter at np 3 (difference of a 200- and a 100-step run, blocks in
 # contact, FE only: no re-neighbouring in between): the pair adds no collective (the bodies'
