@@ -29,7 +29,8 @@ pieces (node to facet, edge to edge) gives the same run at 1, 2, 3 and 4 ranks (
   per host step (the travel flag), two messages per partner and step, at most 9 doubles per
   surface node plus one per message. Blocks 12 mm apart (out of each other's reach at set-up,
   buffer 1e-5) collide at np 2 distributed as at np 1: the travel flag renews the parts' boxes.
-* A distributed body in contact with another `contact_bodies yes` body is refused by name.
+* A distributed body in contact with another distributed `contact_bodies yes` body is refused by
+  name (with a replicated one: test_distributed_pair_contact).
 """
 import os
 import re
@@ -282,8 +283,10 @@ h.check(far_work > 0.01 * far_ref["energy"]["kinetic"][0],
 compare("blocks 12 mm apart, np 2 distributed, buffer 1e-5", far_ref,
         run_blocks(2, "distributed", **FAR), 2 * 2400 * 0.04**3 * FAR["speed"])
 
-out = run_blocks(2, "distributed", steps=1, other=1, expect_fail=True)
-h.check("'parallel distributed' with 'contact_bodies yes' takes the contact of its own pieces "
-        "only, but fix fem/body other has 'contact_bodies yes' too" in out,
-        "a distributed body with another contact_bodies body: refused by name")
+# Contact with a replicated contact_bodies body: test_distributed_pair_contact. With another
+# distributed one: refused by name.
+out = run_blocks(2, "distributed", steps=1, other=1, otherpar="distributed", expect_fail=True)
+h.check("fix fem/body body: 'parallel distributed' with 'contact_bodies yes': fix fem/body other "
+        "is 'parallel distributed' with 'contact_bodies yes' too" in out,
+        "a distributed body with another distributed contact_bodies body: refused by name")
 print("OK")

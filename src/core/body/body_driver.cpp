@@ -96,6 +96,13 @@ BodyHost serial_host(std::function<void(const std::string&)> out)
 BodyDriver::~BodyDriver()
 {
   if (energy_fp_) std::fclose(energy_fp_);
+  // A body leaving disbands the pairs of a distributed body with replicated ones, too.
+  for (BodyDriver* m : pair_group_)
+    if (m != this) {
+      m->pair_group_.clear();
+      m->pairs_.clear();
+      m->pair_body_ = nullptr;
+    }
   // A body leaving (unfix) disbands its scene: the others point to none until the next run's
   // set_partners makes a new one (the first body owns it; the members are in its list).
   BodyDriver* owner = scene_owner_;
@@ -320,26 +327,25 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
   self_contact_.configure(surface_options(my_type, spec_->material.E, friction(my_type, my_type)));
   self_edges_.configure(self_contact_.options());
   friction_ = friction;
-  if (!earlier.empty()) {
-    if (spec_->have_contact_balance)
+  // A distributed body takes its pairs with the replicated ones itself (body_pair_contact.cpp);
+  // the scene holds the replicated bodies.
+  std::vector<BodyDriver*> all = earlier;
+  all.push_back(this);
+  all.insert(all.end(), later.begin(), later.end());
+  take_pair_group(pair_group(all));
+  std::vector<BodyDriver*> members;
+  for (BodyDriver* m : all)
+    if (!m->distributed_) members.push_back(m);
+  if (distributed_ || members.front() != this) {
+    if (!distributed_ && spec_->have_contact_balance)
       fail(prefix() +
            "keyword 'contact_balance' belongs on the first fix fem/body with "
            "'contact_bodies yes' (fix " +
-           earlier.front()->id_ + "), which holds the contact scene of all of them");
-    scene_owned_.reset(); // the scene is the first body's, which set it up before this call
+           members.front()->id_ + "), which holds the contact scene of all of them");
+    scene_owned_.reset(); // the scene is the first replicated body's
     rebuild_surfaces();
     return;
   }
-  std::vector<BodyDriver*> members = {this};
-  members.insert(members.end(), later.begin(), later.end());
-  for (BodyDriver* m : members)
-    if (m->distributed_ && members.size() > 1)
-      fail(m->prefix() +
-           "'parallel distributed' with 'contact_bodies yes' takes the contact of "
-           "its own pieces only, but fix fem/body " +
-           (m == this ? members[1] : this)->id_ +
-           " has 'contact_bodies yes' too (bodies in contact need 'parallel replicated'); give "
-           "one of them 'contact_bodies no', or this one 'parallel replicated'");
   // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
   // gathered first (the new scene starts without a partition).
   scene_continues_ = scene_owned_ && scene_owned_->size() > 0 && members == scene_members_;
@@ -924,6 +930,11 @@ void BodyDriver::rebuild_surfaces()
   self_contact_.invalidate();
   self_edges_.invalidate();
   if (scene_) scene_->invalidate();
+  // The pairs of a distributed body with replicated ones: maps of the new surface, the edge
+  // contact's search afresh.
+  if (distributed_) pair_maps_due_ = true;
+  for (BodyPair& p : distributed_ ? pairs_ : pair_body_ ? pair_body_->pairs_ : pairs_)
+    p.edges.invalidate();
 }
 
 // This body's pieces and its pairs with the later bodies (forces into their pending arrays,
@@ -977,12 +988,20 @@ void BodyDriver::body_contact_forces(std::int64_t step, double dt, bool count_wo
     distributed_body_contacts(step, dt);
   else
     body_contacts(step, dt);
+  pair_contacts(dt);
   if (count_work) hold_body_contacts();
 }
 
 bool BodyDriver::replays_body_contacts(bool count_work) const
 {
   if (count_work) return false;
+  // A distributed body and its replicated partners: all of them replay, or none.
+  if (!pair_group_.empty()) {
+    if (!(distributed_ ? this : pair_body_)->pair_continues_) return false;
+    for (const BodyDriver* m : pair_group_)
+      if (!m->contacts_held_) return false;
+    return true;
+  }
   if (!scene_) return contacts_held_;
   // Bodies in contact with each other: only where they are the last run's (a partner gone would
   // still push; after a restart their pairs start afresh, docs/fix_fem_body.md).

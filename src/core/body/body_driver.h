@@ -233,6 +233,19 @@ private:
   // forces").
   void body_contact_forces(std::int64_t step, double dt, bool count_work);
   bool replays_body_contacts(bool count_work) const;
+  // Contact of a distributed body with replicated bodies (body_pair_contact.cpp): the group of
+  // every contact_bodies body where one is distributed, each (distributed, replicated) pair
+  // evaluated on rank 0 from the distributed body's facets near the replicated one.
+  std::vector<BodyDriver*> pair_group(const std::vector<BodyDriver*>& all) const;
+  void take_pair_group(const std::vector<BodyDriver*>& group);
+  void pair_contacts(double dt);
+  void configure_pairs();
+  void evaluate_pair(size_t k, double dt);
+  void build_pair_maps();
+  std::vector<double> pair_message(const BodyDriver& other, double grow);
+  void gather_pair_nodes(const std::vector<std::vector<double>>& in);
+  std::vector<std::vector<double>> resolve_pair(size_t k, double dt, double* other_f);
+  void add_pair_forces(const std::vector<double>& back, double* f) const;
   void hold_body_contacts();
   void replay_body_contacts();
   std::vector<double> held_body_contacts_record() const;
@@ -354,6 +367,31 @@ private:
   std::vector<int> held_nodes_;
   std::vector<double> held_forces_;
   bool contacts_held_ = false, held_whole_ = false; // whole: from a restart record
+  // Contact between a distributed body and replicated ones (body_pair_contact.cpp). On the
+  // distributed body: one entry per replicated partner (whose call comes first: it evaluates the
+  // pair; both directions of node to facet and, where both take it, edge to edge, state on rank
+  // 0 only), the maps of its surface (global node -> part node, -> surface index) and, on rank 0,
+  // the replica of its surface nodes near the partner (by global number) with each node's sender
+  // (the lowest rank that sent it gets its force back). On a replicated body: its distributed
+  // partner and whether this body's call evaluates the pair.
+  struct BodyPair {
+    BodyDriver* other = nullptr;
+    bool other_first = false;
+    SurfaceContact mine_on_other, other_on_mine;
+    EdgeContact edges;
+  };
+  std::vector<BodyPair> pairs_;
+  std::vector<BodyDriver*> pair_group_;
+  bool pair_continues_ = false, pairs_pending_ = false, pair_maps_due_ = true;
+  BodyDriver* pair_body_ = nullptr;
+  bool pair_first_ = false;
+  std::vector<int> pair_local_, pair_own_facets_, pair_own_free_, pair_sent_mine_;
+  std::vector<int> pair_known_nodes_, pair_known_facets_; // rank 0, this step
+  std::vector<char> pair_seen_, pair_facet_known_;
+  std::vector<double> pair_x_, pair_v_, pair_f_;
+  std::vector<std::vector<int>> pair_sent_; // rank 0: per rank, the nodes it sent
+  std::vector<std::vector<char>> pair_route_; // rank 0: per rank, per node sent: its force goes there
+  std::vector<std::vector<double>> pair_out_, pair_in_;
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
   // Body-body contact: the scene (owned by the first body, which lists the members, configures
