@@ -85,3 +85,20 @@ def compare(label, ref, other, momentum, after=-1, need_events=False, tol=TOL):
                      f"(worst: {col}; tolerance {tol:g})")
     w, col = worst_thermo(ref["thermo"], other["thermo"], momentum)
     h.check(w < tol, f"{label}: thermo within {w:.1e} of each column's scale (worst: {col})")
+
+
+def write_pair_blocks(wd, dim, gap=0.0002):
+    """a.msh and b.msh: block b is block a moved gap further along x and across; group "all"
+    (every element's faces / edges: every node)."""
+    if dim == 3:
+        X, E, _ = meshgen.box_tet_mesh(4, 4, 4, 0.04, 0.04, 0.04)
+        shift = np.array([0.04 + gap, 0.006, 0.004])
+        sides = ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3))
+    else:
+        X, E, _ = meshgen.rect_mesh(8, 8, 0.04, 0.04)
+        shift = np.array([0.04 + gap, 0.006, 0.0])
+        sides = ((0, 1), (1, 2), (2, 0))
+    X, E = np.array(X, dtype=float), np.array(E)
+    group = {"all": np.array([[t[i] for i in s] for t in E for s in sides])}
+    meshgen.write_gmsh22(os.path.join(wd, "a.msh"), X, E, group)
+    meshgen.write_gmsh22(os.path.join(wd, "b.msh"), X + shift, E, group)

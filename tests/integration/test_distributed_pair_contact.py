@@ -11,9 +11,9 @@ replicated at 1 rank.
   1e-10 of its scale (the issue's figure for elastic runs); the blocks collide (contact work
   beyond 1 % of the kinetic energy, which falls below half and comes back above half).
 * The run split while the blocks touch, at np 2 and 3 against np 1, and its restart file written
-  at np 3 continued at np 2 distributed and at np 1 replicated (the pairs start afresh at a new
-  run, at every rank count alike); split without a restart file (the held contact forces
-  replayed) at np 3 against np 1, either fix first.
+  at np 3 continued at np 2 distributed and at np 1 replicated (the pairs' contacts go on, from
+  the distributed body's restart records into the replicated scene too); split without a restart
+  file (the held contact forces replayed) at np 3 against np 1, either fix first.
 * The same with contact_edges no, and in 2D (two tri3 squares in plane strain, node to edge) up
   to the step where the scene starts to amplify round-off (the replicated run at np 3 departs
   from np 1 by itself there), and over the whole run within 10 times that departure.
@@ -46,23 +46,6 @@ SPEED = 5.0
 STEPS = 400
 
 
-def write_blocks(wd, dim, gap=0.0002):
-    """a.msh and b.msh: block b is block a moved gap further along x and across; group "all"
-    (every element's faces / edges: every node)."""
-    if dim == 3:
-        X, E, _ = meshgen.box_tet_mesh(4, 4, 4, 0.04, 0.04, 0.04)
-        shift = np.array([0.04 + gap, 0.006, 0.004])
-        sides = ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3))
-    else:
-        X, E, _ = meshgen.rect_mesh(8, 8, 0.04, 0.04)
-        shift = np.array([0.04 + gap, 0.006, 0.0])
-        sides = ((0, 1), (1, 2), (2, 0))
-    X, E = np.array(X, dtype=float), np.array(E)
-    group = {"all": np.array([[t[i] for i in s] for t in E for s in sides])}
-    meshgen.write_gmsh22(os.path.join(wd, "a.msh"), X, E, group)
-    meshgen.write_gmsh22(os.path.join(wd, "b.msh"), X + shift, E, group)
-
-
 def result(wd, out):
     blocks = h.thermo_blocks(out)
     return dict(wd=wd, out=out, thermo=(blocks[-1][0], [r for _, rs in blocks for r in rs]),
@@ -73,7 +56,7 @@ def result(wd, out):
 def run(np_, pa, pb, first=1, dim=3, edges="yes", steps=STEPS, restart_at=0, write=1, speed=SPEED,
         akw="", expect_fail=False):
     wd = tempfile.mkdtemp(prefix=f"distributed_pair_contact_{np_}_")
-    write_blocks(wd, dim)
+    ds.write_pair_blocks(wd, dim)
     h.copy_inputs(["in.distributed_pair_contact"], wd)
     out = h.run(args.exe, "in.distributed_pair_contact", np_=np_, workdir=wd,
                 variables=dict(pa=pa, pb=pb, first=first, dim=dim, edges=edges, steps=steps,
@@ -125,9 +108,10 @@ for first, order in ((1, "a's fix first"), (0, "b's fix first")):
             run(3, "replicated", "distributed", first=first))
 
 # A run split while the blocks touch (step 200), its restart file written at np 3 with a
-# distributed: the pairs between two bodies start afresh at a new run and at a restart
+# distributed: the pairs between two bodies go on at a new run and at a restart
 # (docs/fix_fem_body.md), at every rank count alike. The split runs at np 2 and 3 against the
-# split run at np 1; the restart continued at np 2 distributed and at np 1 replicated.
+# split run at np 1; the restart continued at np 2 distributed and at np 1 replicated (the
+# distributed body's pair records read by the replicated scene).
 SPLIT = 200
 ref = run(1, "replicated", "replicated", restart_at=SPLIT)
 for np_ in (2, 3):
@@ -137,7 +121,7 @@ for np_, pa in ((2, "distributed"), (1, "replicated")):
     compare(f"3D, restart of np 3 at step {SPLIT} continued at np {np_}, a {pa}", ref,
             resume(got["wd"], np_, pa, "replicated", STEPS - SPLIT))
 
-# Split without write_restart (whose set-up of the bodies makes the next run evaluate anew): the
+# Split without write_restart: the
 # set-up of the second run replays the held contact forces of both bodies, at every rank count
 # alike, with either fix first.
 for first in (1, 0):
@@ -246,7 +230,7 @@ for np_ in (2, 3):
 LIB = os.path.join(os.path.dirname(os.path.abspath(args.exe)), "libfracdem_mpicount.so")
 h.check(os.path.isfile(LIB), f"PMPI counter {LIB} built")
 wd = tempfile.mkdtemp(prefix="distributed_pair_contact_counts_")
-write_blocks(wd, 3)
+ds.write_pair_blocks(wd, 3)
 h.copy_inputs(["in.distributed_pair_contact"], wd)
 
 

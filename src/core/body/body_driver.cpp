@@ -42,11 +42,14 @@ std::string format(const char* fmt, ...)
 // contact writes the same bytes. kSelfEdgeSection: the pieces' edge contact state
 // (EdgeContact::pack_state), likewise. kHeldContactSection: the held contact forces of the
 // pieces and with other bodies ("held contact forces" below), 4 doubles per node (node, force),
-// likewise.
+// likewise. kPairContactSection: the contacts between bodies held by this body (the first body
+// of a contact scene of several, or a distributed body with replicated partners), each behind
+// the fix IDs of its two bodies (pair_restart.cpp).
 constexpr double kRecordHead = -1.0;
 constexpr double kSelfContactSection = 1.0;
 constexpr double kSelfEdgeSection = 2.0;
 constexpr double kHeldContactSection = 3.0;
+constexpr double kPairContactSection = 4.0;
 
 // The placement keywords as the input writes them.
 std::string placement_text(bool rigid, const std::vector<MeshTransform>& transforms)
@@ -347,11 +350,19 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
     return;
   }
   // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
-  // gathered first (the new scene starts without a partition).
-  scene_continues_ = scene_owned_ && scene_owned_->size() > 0 && members == scene_members_;
-  if (scene_continues_)
+  // gathered first (the new scene starts without a partition), and the new scene takes the
+  // contacts between the bodies (configure_scene). A scene not yet evaluated (a second call
+  // before a step, e.g. write_restart's) keeps those carried into it.
+  const bool evaluated = scene_owned_ && scene_owned_->size() > 0;
+  scene_continues_ = members == scene_members_ && (evaluated || scene_continues_);
+  if (scene_continues_ && evaluated) {
     for (int m = 0; m < scene_owned_->size(); ++m)
       scene_owned_->gather_self_state(m);
+    carried_pair_state_ = scene_pair_records();
+  } else if (members != scene_members_) {
+    carried_pair_state_.clear();
+    take_restored_scene_pairs(members); // after a restart: the file's contacts of these bodies
+  }
   scene_owned_ = std::make_unique<ContactScene>();
   scene_members_ = members;
   for (size_t m = 0; m < members.size(); ++m) {
@@ -393,6 +404,7 @@ void BodyDriver::configure_scene()
                  [this](const std::string& line) { print(prefix() + line, false, true); }};
   try {
     scene_owned_->configure(std::move(members), std::move(pairs), balance, std::move(comm));
+    restore_scene_pairs();
   } catch (const std::exception& e) {
     fail(prefix() + e.what());
   }
@@ -1470,12 +1482,14 @@ std::vector<double> BodyDriver::record_head(const std::vector<double>& held) con
     buf.push_back(static_cast<double>(t.kind));
     buf.insert(buf.end(), t.a, t.a + 4);
   }
-  std::vector<double> state[3];
+  std::vector<double> state[kHeadSections];
   if (spec_->contact_bodies > 0) self_contact_.pack_state(state[0]);
   if (spec_->contact_bodies > 0) self_edges_.pack_state(state[1]);
   state[2] = held;
-  const double tags[3] = {kSelfContactSection, kSelfEdgeSection, kHeldContactSection};
-  for (int i = 0; i < 3; ++i)
+  state[3] = pair_records();
+  const double tags[kHeadSections] = {kSelfContactSection, kSelfEdgeSection, kHeldContactSection,
+                                      kPairContactSection};
+  for (int i = 0; i < kHeadSections; ++i)
     if (!state[i].empty()) {
       buf.push_back(tags[i]);
       buf.push_back(static_cast<double>(state[i].size()));
@@ -1618,8 +1632,8 @@ void BodyDriver::take_part_records(const double* record)
 // The head (after marker and length): placement, then sections. The stored state keeps the
 // stored placement (reference coordinates included), so a command that places the body
 // otherwise, or changes 'rigid', would be silently overruled: refused.
-void BodyDriver::read_head(const double* head, int n, const double* (&state)[3],
-                           size_t (&state_size)[3])
+void BodyDriver::read_head(const double* head, int n, const double* (&state)[kHeadSections],
+                           size_t (&state_size)[kHeadSections])
 {
   const int nt = n >= 2 ? static_cast<int>(head[1]) : -1;
   if (nt < 0 || n < 2 + 5 * nt) fail("fix fem/body: corrupt restart record");
@@ -1642,6 +1656,7 @@ void BodyDriver::read_head(const double* head, int n, const double* (&state)[3],
     const int section = tag == kSelfContactSection   ? 0
                         : tag == kSelfEdgeSection    ? 1
                         : tag == kHeldContactSection ? 2
+                        : tag == kPairContactSection ? 3
                                                      : -1;
     if (section >= 0) {
       state[section] = head + k + 2;
@@ -1653,8 +1668,8 @@ void BodyDriver::read_head(const double* head, int n, const double* (&state)[3],
 
 void BodyDriver::read_restart(const double* record)
 {
-  const double* state[3] = {nullptr, nullptr, nullptr};
-  size_t state_size[3] = {0, 0, 0};
+  const double* state[kHeadSections] = {};
+  size_t state_size[kHeadSections] = {};
   if (record[0] == kRecordHead) {
     const int n = static_cast<int>(record[1]);
     read_head(record + 2, n, state, state_size);
@@ -1674,6 +1689,8 @@ void BodyDriver::read_restart(const double* record)
       if (state[0]) self_contact_.unpack_state(state[0], state_size[0]);
       if (state[1]) self_edges_.unpack_state(state[1], state_size[1]);
       if (state[2]) take_held_body_contacts(state[2], state_size[2]);
+      // The contacts between bodies wait for the bodies' set-up (set_partners).
+      restored_pairs_.assign(state[3], state[3] + state_size[3]);
     } catch (const std::exception& e) {
       fail(prefix() + e.what());
     }

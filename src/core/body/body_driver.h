@@ -292,8 +292,18 @@ private:
                           std::vector<int>& eroded) const;
   // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state,
   // [2] the held contact forces.
-  void read_head(const double* head, int n, const double* (&state)[3], size_t (&size)[3]);
+  static constexpr int kHeadSections = 4; // sections of the restart record's head
+  void read_head(const double* head, int n, const double* (&state)[kHeadSections],
+                 size_t (&size)[kHeadSections]);
   std::vector<double> record_head(const std::vector<double>& held) const;
+  // The contacts between bodies carried into the next run and in restart records
+  // (pair_restart.cpp): records of (first body's ID, second's, state), either holder's alike.
+  std::vector<double> pair_records() const;
+  std::vector<double> scene_pair_records() const;
+  void take_restored_scene_pairs(const std::vector<BodyDriver*>& members);
+  void restore_scene_pairs();
+  void take_restored_body_pairs();
+  static void drop_restored_pairs(const std::vector<BodyDriver*>& bodies);
   std::vector<double> record_with(const std::vector<double>& held) const;
   std::vector<double> distributed_body_record() const;
   void read_body_record(const double* record);
@@ -380,6 +390,7 @@ private:
     SurfaceContact mine_on_other, other_on_mine;
     EdgeContact edges;
   };
+  static void carry_pair_state(const BodyPair& from, BodyPair& to);
   std::vector<BodyPair> pairs_;
   std::vector<BodyDriver*> pair_group_;
   bool pair_continues_ = false, pairs_pending_ = false, pair_maps_due_ = true;
@@ -403,6 +414,9 @@ private:
   std::vector<BodyDriver*> scene_members_;
   bool scene_pending_ = false;
   bool scene_continues_ = false; // its members are those of the last run
+  std::vector<double> carried_pair_state_; // their pairs' contacts (records), for the next scene
+  // The restart record's contacts between bodies (records), until the first evaluation.
+  std::vector<double> restored_pairs_;
   std::function<double(int, int)> friction_;
   FailureMap failure_map_; // kept between checks: no allocation per check
   int last_fragments_ = 1;

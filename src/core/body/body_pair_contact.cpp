@@ -73,14 +73,18 @@ std::vector<BodyDriver*> BodyDriver::pair_group(const std::vector<BodyDriver*>& 
 }
 
 // The distributed body lists its replicated partners (the earlier body's call evaluates a pair,
-// as the scene does); a replicated body notes its distributed partner. The pairs start afresh in
-// every run, as the scene's do. The group continues (its held contact forces are replayed at the
-// set-up: replays_body_contacts, the distributed body's flag for all) where its bodies are the
-// last run's and the pairs were evaluated since the last call, as the scene's rule (a second
-// call without a step between, e.g. write_restart's, makes the next run start afresh).
+// as the scene does); a replicated body notes its distributed partner. The pairs of the same
+// bodies go on with their contacts in the next run (carry_pair_state), and the group continues
+// (its held contact forces are replayed at the set-up: replays_body_contacts, the distributed
+// body's flag for all) where its bodies are the last run's, as the scene's rule; a second call
+// without a step between (write_restart's) changes neither.
 void BodyDriver::take_pair_group(const std::vector<BodyDriver*>& group)
 {
-  pair_continues_ = !group.empty() && group == pair_group_ && !pairs_.empty() && !pairs_pending_;
+  const bool same = !group.empty() && group == pair_group_;
+  // A second call before a step (write_restart's init) keeps the first call's answer.
+  pair_continues_ = same && (pairs_pending_ ? pair_continues_ : !pairs_.empty());
+  std::vector<BodyPair> last;
+  if (group == pair_group_) last.swap(pairs_); // the same bodies: their contacts go on
   pair_group_ = group;
   pairs_.clear();
   pair_body_ = nullptr;
@@ -101,8 +105,26 @@ void BodyDriver::take_pair_group(const std::vector<BodyDriver*>& group)
       pairs_.emplace_back();
       pairs_.back().other = m;
       pairs_.back().other_first = at(m) < at(this);
+      for (const BodyPair& p : last)
+        if (p.other == m) carry_pair_state(p, pairs_.back());
     }
+  if (last.empty()) take_restored_body_pairs(); // after a restart: the file's contacts
   pairs_pending_ = pair_maps_due_ = true;
+}
+
+// A pair of the last run goes on in the new one with its contacts (held on rank 0, which
+// evaluates it): a split run continues them as the scene's pairs do (ContactScene::pair_state).
+void BodyDriver::carry_pair_state(const BodyPair& from, BodyPair& to)
+{
+  std::vector<double> state;
+  from.mine_on_other.pack_state(state);
+  to.mine_on_other.unpack_state(state.data(), state.size());
+  state.clear();
+  from.other_on_mine.pack_state(state);
+  to.other_on_mine.unpack_state(state.data(), state.size());
+  state.clear();
+  from.edges.pack_state(state);
+  to.edges.unpack_state(state.data(), state.size());
 }
 
 // At the first evaluation of a run (every body's friction known): the pair (a, b), a the earlier
@@ -110,6 +132,7 @@ void BodyDriver::take_pair_group(const std::vector<BodyDriver*>& group)
 void BodyDriver::configure_pairs()
 {
   pairs_pending_ = false;
+  drop_restored_pairs(pair_group_);
   for (BodyPair& p : pairs_) {
     const BodyDriver& a = p.other_first ? *p.other : *this;
     const BodyDriver& b = p.other_first ? *this : *p.other;

@@ -448,4 +448,56 @@ void ContactScene::gather_self_state(int i)
   sc->import_state(nodes, buf.data());
 }
 
+std::vector<double> ContactScene::pair_state(int a, int b) const
+{
+  std::vector<double> out;
+  const int p = pair_index(a, b);
+  for (int dir = 0; dir < 2; ++dir) {
+    const int m = dir == 0 ? a : b; // whose nodes
+    const std::vector<int>& nodes = members_[m].surface->nodes;
+    const std::vector<int>& known = mesh_owner_[m];
+    std::vector<double> buf(3 * nodes.size());
+    // As gather_self_state: each node's state from its owner (rank 0's before a partition).
+    pairs_[2 * p + dir].export_state(
+        nodes,
+        [&](size_t s) {
+          if (evaluates_all()) return true;
+          const size_t node = static_cast<size_t>(nodes[s]);
+          const int o = node < known.size() ? known[node] : -1;
+          return o < 0 ? part_ == 0 : o == part_;
+        },
+        buf.data());
+    if (!evaluates_all()) comm_.sum(buf.data(), static_cast<int>(buf.size()));
+    const std::size_t count_at = out.size();
+    out.push_back(0);
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      if (buf[3 * s] > 0.5) {
+        out.insert(out.end(), {static_cast<double>(nodes[s]), buf[3 * s + 1], buf[3 * s + 2]});
+        out[count_at] += 1;
+      }
+  }
+  std::vector<double> edges; // evaluated on every rank alike: every rank holds it whole
+  edge_pairs_[p].pack_state(edges);
+  out.push_back(static_cast<double>(edges.size() / 6));
+  out.insert(out.end(), edges.begin(), edges.end());
+  return out;
+}
+
+void ContactScene::restore_pair_state(int a, int b, const std::vector<double>& state)
+{
+  std::size_t at = 0;
+  const auto take = [&](std::size_t width, auto&& unpack) {
+    if (at >= state.size()) throw std::runtime_error("contact scene: short pair state");
+    const std::size_t len = width * static_cast<std::size_t>(state[at++]);
+    if (at + len > state.size()) throw std::runtime_error("contact scene: short pair state");
+    unpack(state.data() + at, len);
+    at += len;
+  };
+  const int p = pair_index(a, b);
+  for (int dir = 0; dir < 2; ++dir)
+    take(3, [&](const double* in, std::size_t len) { pairs_[2 * p + dir].unpack_state(in, len); });
+  take(6, [&](const double* in, std::size_t len) { edge_pairs_[p].unpack_state(in, len); });
+  if (at != state.size()) throw std::runtime_error("contact scene: corrupt pair state");
+}
+
 } // namespace fracdem

@@ -84,6 +84,14 @@ public:
   // Every rank gets the whole contact state of member i's own pieces (restart records are
   // written from rank 0). Entered by every rank.
   void gather_self_state(int i);
+  // The contact state of the pair of bodies (a, b), a < b: nodes of a on facets of b, nodes of b
+  // on facets of a (each a record count and (node, penetration, offset) records), then edge to
+  // edge (EdgeContact::pack_state records of 6), whole on every rank. A new scene of the same
+  // bodies takes it (restore_pair_state), so that a run split in two goes on with the contacts
+  // of the first (they would start afresh, as new contacts, and push with another force).
+  // Entered by every rank, pair by pair in the same order.
+  std::vector<double> pair_state(int a, int b) const;
+  void restore_pair_state(int a, int b, const std::vector<double>& state);
   // The part that evaluates work of the pair (a, b) not split by node (e.g. edge contact).
   int pair_part(int a, int b) const;
 
