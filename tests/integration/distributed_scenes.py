@@ -102,3 +102,30 @@ def write_pair_blocks(wd, dim, gap=0.0002):
     group = {"all": np.array([[t[i] for i in s] for t in E for s in sides])}
     meshgen.write_gmsh22(os.path.join(wd, "a.msh"), X, E, group)
     meshgen.write_gmsh22(os.path.join(wd, "b.msh"), X + shift, E, group)
+
+
+def body_collectives(d, replicated_pattern=None):
+    """One rank's PMPI sites of a counted difference (tests/support/mpicount.py) sorted into the
+    body's own costs: sparse_exchange sends and bytes, the stable-step re-estimate, the travel
+    flag's one-integer reductions, the output's sums, the collectives of callers matching
+    replicated_pattern (a replicated body's), and any other collective (listed)."""
+    c = dict(restep=0, travel=0, output=0, sends=0, nbytes=0, replicated=0, other=[])
+    for (module, caller, func, cat), (count, nb) in d["sites"].items():
+        if not count or "fracdem::" not in caller:
+            continue  # the host's own (its neighbour check, thermo)
+        if cat == "send" and "sparse_exchange" in caller:
+            c["sends"] += count
+            c["nbytes"] += nb
+        if cat != "coll":
+            continue
+        if "energy_row" in caller or "vector_entry" in caller:
+            c["output"] += count  # the energy file's and the thermo's sums over the parts
+        elif "check_squeezed" in caller and func == "MPI_Allreduce":
+            c["restep"] += count
+        elif "distributed_forces" in caller and func == "MPI_Allreduce" and nb <= 4 * count:
+            c["travel"] += count  # the pieces' travel flag: one integer per host step
+        elif replicated_pattern and re.search(replicated_pattern, caller):
+            c["replicated"] += count
+        else:
+            c["other"].append(f"{count} x {func} in {caller}")
+    return c

@@ -244,24 +244,9 @@ def counted(steps):
 _, short = counted(100)
 _, long_ = counted(200)
 for d in mpicount.difference(long_, short):
-    restep, travel, output, sends, nbytes, other, replicated = 0, 0, 0, 0, 0, [], 0
-    for (module, caller, func, cat), (count, nb) in d["sites"].items():
-        if not count or "fracdem::" not in caller:
-            continue  # the host's own (its neighbour check, thermo)
-        if cat == "send" and "sparse_exchange" in caller:
-            sends, nbytes = sends + count, nbytes + nb
-        if cat != "coll":
-            continue
-        if "energy_row" in caller or "vector_entry" in caller:
-            output += count
-        elif "check_squeezed" in caller and func == "MPI_Allreduce":
-            restep += count
-        elif "distributed_forces" in caller and func == "MPI_Allreduce" and nb <= 4 * count:
-            travel += count
-        elif re.search(r"BodyDriver::compute_forces|ContactScene::check_balance", caller):
-            replicated += count
-        else:
-            other.append(f"{count} x {func} in {caller}")
+    c = ds.body_collectives(d, r"BodyDriver::compute_forces|ContactScene::check_balance")
+    restep, travel, output, sends, nbytes, other, replicated = (
+        c[k] for k in ("restep", "travel", "output", "sends", "nbytes", "other", "replicated"))
     h.check(restep == 1 and travel == 100 and not other,
             f"rank {d['rank']}: in 100 steps no collective of the pair contact (other "
             f"collectives: {'; '.join(other) or 'none'}; the travel flag's {travel} one-integer "

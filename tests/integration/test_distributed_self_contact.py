@@ -244,22 +244,9 @@ def counted(steps):
 short_text, short = counted(100)
 long_text, long_ = counted(200)
 for d in mpicount.difference(long_, short):
-    restep, travel, output, sends, nbytes, other = 0, 0, 0, 0, 0, []
-    for (module, caller, func, cat), (count, nb) in d["sites"].items():
-        if not count or "fracdem::" not in caller:
-            continue  # the host's own (its neighbour check, thermo)
-        if cat == "send" and "sparse_exchange" in caller:
-            sends, nbytes = sends + count, nbytes + nb
-        if cat != "coll":
-            continue
-        if "energy_row" in caller or "vector_entry" in caller:
-            output += count  # output: the energy file's and the thermo's sums over the parts
-        elif "check_squeezed" in caller and func == "MPI_Allreduce":
-            restep += count
-        elif "distributed_forces" in caller and func == "MPI_Allreduce" and nb <= 4 * count:
-            travel += count  # the pieces' travel flag: one integer per host step
-        else:
-            other.append(f"{count} x {func} in {caller}")
+    c = ds.body_collectives(d)
+    restep, travel, output, sends, nbytes, other = (
+        c[k] for k in ("restep", "travel", "output", "sends", "nbytes", "other"))
     k = sends / 200
     h.check(restep == 1 and travel == 100 and not other and k in (1, 2)
             and nbytes / 100 <= 8 * k * (9 * S + 1),
