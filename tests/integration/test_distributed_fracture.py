@@ -22,7 +22,9 @@ apart at 5 m/s each, contact_bodies no. Replicated at np 1 against `parallel dis
   replicated frame's split, fragment and mesh_element fields (by global number);
 * three steel spheres hitting the bar across its crack (facet ghosts of the changed parts) at
   np 2 against np 1: thermo (particle kinetic energy, body energies, contact count, momenta)
-  within 1e-10 of each column's scale.
+  within 1e-10 of each column's scale;
+* the bar parted by erosion (`erosion damage 0.999`) at np 2 and 3: the same (1e-10), and the
+  energy file's fragment count row by row as np 1's.
 """
 import glob
 import os
@@ -127,4 +129,17 @@ compare("spheres on the breaking bar, np 2 distributed", ref_b, dist_b)
 ke = [r[hdr.index("KinEng")] for r in rows]
 h.check(min(ke) < 0.5 * ke[0], f"the spheres hit the bar (their kinetic energy "
                                f"{ke[0]:.3g} -> {min(ke):.3g} J)")
+
+# A bar that parts by erosion (`erosion damage 0.999`: its failing elements leave before a crack
+# opens): the energy file's fragment count follows the erosions at np 2 as at np 1 (before: the
+# distributed body counted fragments at cracks only and wrote 1 to the end).
+ERODE = "every 5 erosion damage 0.999"
+ref_e = run(1, "replicated", ERODE, 600)
+frag_e = np.array(ref_e["energy"]["fragments"]).astype(int)
+h.check(frag_e[-1] >= 2, f"erosion parts the bar ({frag_e[-1]} fragments at the end)")
+for np_ in (2, 3):
+    got_e = run(np_, "distributed", ERODE, 600)
+    ds.compare(f"eroding bar, np {np_} distributed", ref_e, got_e, MASS * SPEED)
+    h.check(list(np.array(got_e["energy"]["fragments"]).astype(int)) == list(frag_e),
+            f"eroding bar, np {np_} distributed: the fragment count of every energy row as np 1's")
 print("OK")

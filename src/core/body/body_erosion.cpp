@@ -210,7 +210,8 @@ void BodyDriver::merge_part_erosion(std::int64_t step, const std::vector<double>
 // Every part's surface facets come from the whole body's surface, which changes with every
 // erosion. Rank 0 keeps the whole mesh and its element owners (gathered at the first erosion
 // after the parts changed), takes the eroded elements out and sends every rank the new surface
-// (as at set-up); each rank renews its facet ghosts (boxes exchanged at once, before the contact).
+// (as at set-up) and counts the fragments the erosion left; each rank renews its facet ghosts
+// (boxes exchanged at once, before the contact).
 void BodyDriver::renew_surface_after_erosion(const std::vector<int>& eroded)
 {
   if (!whole_mesh_known_) {
@@ -223,6 +224,8 @@ void BodyDriver::renew_surface_after_erosion(const std::vector<int>& eroded)
     for (int e : eroded)
       whole_mesh_.active[e] = 0;
     packed = pack_surface(global_surface(whole_mesh_, whole_owner_));
+    std::vector<int> component; // an erosion can part the body: the energy file's count
+    whole_fragments_ = element_components(whole_mesh_, component);
   }
   const std::vector<double> message = host_.scatter([&](int) { return packed; });
   std::size_t at = 0;
