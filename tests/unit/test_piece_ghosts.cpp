@@ -176,6 +176,21 @@ void against_whole_surface(int nparts)
   }
   EXPECT_GT(node_contacts, 20);
   EXPECT_GT(edge_contacts, 0);
+  // Each part's edge search holds its own edges against the edges it knows, not the whole
+  // surface's: every candidate's first edge is the part's, and the parts' candidates together
+  // are fewer than every part searching the whole surface (the build before: nparts times the
+  // whole search's, each part's first edges from every part).
+  size_t part_candidates = 0;
+  for (int p = 0; p < nparts; ++p) {
+    const std::vector<int>& mine = pieces.parts[p].global_elem; // ascending
+    for (const auto& c : pieces.edges[p].candidates()) {
+      const int elem = pieces.surface.facets[pieces.surface.edges[c.first].facet[0]].elem;
+      EXPECT_TRUE(std::binary_search(mine.begin(), mine.end(), elem))
+          << "part " << p << ": edge " << c.first << " of another part";
+      ++part_candidates;
+    }
+  }
+  EXPECT_LT(part_candidates, nparts * whole_edges.candidates().size());
   size_t partners = 0; // the parts did exchange
   for (const PieceGhosts& g : pieces.ghosts)
     partners += g.partners().size();

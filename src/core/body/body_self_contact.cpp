@@ -81,8 +81,8 @@ void BodyDriver::build_part_surface()
     if (surf_owned_[s]) m[s] = body_.masses()[n];
   }
   host_.sum(m.data(), static_cast<int>(m.size()));
-  // Nodes not known this step sit at their last known position (at first: their reference one,
-  // so that the edge contact's search over the whole surface finds few pairs among them).
+  // Nodes not known this step sit at their last known position (at first: their reference one;
+  // the pieces' searches take known nodes only, the D-R pairs' on rank 0 the whole surface).
   surf_x_ = std::move(X);
   surf_v_.assign(3 * static_cast<size_t>(ng), 0.0);
   surf_f_.assign(3 * static_cast<size_t>(ng), 0.0);

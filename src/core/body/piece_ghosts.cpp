@@ -165,6 +165,17 @@ void PieceGhosts::learn_known(const ContactSurface& s)
     facet_known_[k] = all ? 1 : 0;
     if (all) facets_.push_back(static_cast<int>(k));
   }
+  // The edge pairs this part evaluates (edge_pair_mine): a first edge of its own against any
+  // edge whose facets it knows, both known; the edge search looks at these alone.
+  edges_mine_.clear();
+  edges_known_.clear();
+  for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
+    const SurfaceEdge& edge = s.edges[e];
+    if (!facet_known_[edge.facet[0]] || !facet_known_[edge.facet[1]]) continue;
+    edges_known_.push_back(e);
+    if (facet_part_[edge.facet[0]] == part_) edges_mine_.push_back(e);
+  }
+  edges_due_ = true;
 }
 
 // The part's nodes against the known facets: the scene's buffered search (reach of the deepest
@@ -210,6 +221,10 @@ int PieceGhosts::evaluate(const ContactSurface& s, SurfaceContact& nodes, EdgeCo
   // One call per step on every rank, candidates or not (the contacts' continuity counts calls).
   int n =
       static_cast<int>(nodes.resolve(s, st, s, st, true, dt, cand_.data(), cand_.size()).contacts);
+  if (edges && edges_due_) {
+    edges->restrict_search(edges_mine_, edges_known_);
+    edges_due_ = false;
+  }
   if (edges)
     n += edges->evaluate(s, st, s, st, true, dt,
                          [&](int e, int f) { return edge_pair_mine(s, e, f); });

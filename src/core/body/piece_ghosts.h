@@ -86,6 +86,8 @@ private:
   std::vector<std::vector<char>> route_;     // per partner, per node of its S: forces go there
   std::vector<char> known_, facet_known_;    // per global node / facet: positions this step
   std::vector<int> known_list_, facets_;     // known nodes; facets with every node known
+  std::vector<int> edges_mine_, edges_known_; // the edge search's sides (learn_known)
+  bool edges_due_ = true;                     // they changed: restrict the edge search anew
   bool learn_ = true, stale_ = true;
   BufferedSearch search_{0.0};
   std::vector<double> kx_;

@@ -34,22 +34,40 @@ void edge_normal(const ContactSurface& s, const SurfaceEdge& e, const double* x,
 }
 
 // Largest per-axis displacement of the surface's nodes since x0 (infinity: no x0 of this size).
-double travel(const ContactSurface& s, const double* x, const std::vector<double>& x0)
+double travel(const std::vector<int>& nodes, const double* x, const std::vector<double>& x0)
 {
-  if (x0.size() != 3 * s.nodes.size()) return std::numeric_limits<double>::infinity();
+  if (x0.size() != 3 * nodes.size()) return std::numeric_limits<double>::infinity();
   double m = 0;
-  for (size_t i = 0; i < s.nodes.size(); ++i)
+  for (size_t i = 0; i < nodes.size(); ++i)
     for (int d = 0; d < 3; ++d)
-      m = std::max(m, std::fabs(x[3 * s.nodes[i] + d] - x0[3 * i + d]));
+      m = std::max(m, std::fabs(x[3 * nodes[i] + d] - x0[3 * i + d]));
   return m;
 }
 
-void remember(const ContactSurface& s, const double* x, std::vector<double>& x0)
+void remember(const std::vector<int>& nodes, const double* x, std::vector<double>& x0)
 {
-  x0.resize(3 * s.nodes.size());
-  for (size_t i = 0; i < s.nodes.size(); ++i)
+  x0.resize(3 * nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i)
     for (int d = 0; d < 3; ++d)
-      x0[3 * i + d] = x[3 * s.nodes[i] + d];
+      x0[3 * i + d] = x[3 * nodes[i] + d];
+}
+
+// The feature edges among `edges` (all of s's when null), and their nodes, ascending.
+void feature_edges(const ContactSurface& s, const std::vector<int>* edges, std::vector<int>& feat,
+                   std::vector<int>* nodes)
+{
+  feat.clear();
+  const int n = edges ? static_cast<int>(edges->size()) : static_cast<int>(s.edges.size());
+  for (int i = 0; i < n; ++i) {
+    const int k = edges ? (*edges)[i] : i;
+    if (s.edges[k].feature) feat.push_back(k);
+  }
+  if (!nodes) return;
+  nodes->clear();
+  for (int k : feat)
+    nodes->insert(nodes->end(), s.edges[k].n, s.edges[k].n + 2);
+  std::sort(nodes->begin(), nodes->end());
+  nodes->erase(std::unique(nodes->begin(), nodes->end()), nodes->end());
 }
 
 // Whether node p's site (p, or its split parent or copies) is a corner of edge e's facets.
@@ -130,18 +148,23 @@ bool edge_touch(const ContactSurface& a, int ea, const double* xa, const Contact
 bool EdgeContact::needs_rebuild(const ContactSurface& a, const double* xa, const ContactSurface& b,
                                 const double* xb) const
 {
-  return travel(a, xa, xa0_) + travel(b, xb, xb0_) > reach_;
+  if (restricted_) return travel(watch_a_, xa, xa0_) + travel(watch_b_, xb, xb0_) > reach_;
+  return travel(a.nodes, xa, xa0_) + travel(b.nodes, xb, xb0_) > reach_;
+}
+
+void EdgeContact::restrict_search(std::vector<int> edges_a, std::vector<int> edges_b)
+{
+  restricted_ = true;
+  only_a_ = std::move(edges_a);
+  only_b_ = std::move(edges_b);
+  stale_ = true;
 }
 
 void EdgeContact::rebuild_search(const ContactSurface& a, const double* xa, const ContactSurface& b,
                                  const double* xb)
 {
-  feat_a_.clear();
-  feat_b_.clear();
-  for (int k = 0; k < static_cast<int>(a.edges.size()); ++k)
-    if (a.edges[k].feature) feat_a_.push_back(k);
-  for (int k = 0; k < static_cast<int>(b.edges.size()); ++k)
-    if (b.edges[k].feature) feat_b_.push_back(k);
+  feature_edges(a, restricted_ ? &only_a_ : nullptr, feat_a_, restricted_ ? &watch_a_ : nullptr);
+  feature_edges(b, restricted_ ? &only_b_ : nullptr, feat_b_, restricted_ ? &watch_b_ : nullptr);
   reach_ = std::min(a.max_edge_reach, b.max_edge_reach);
   // A's edges as spheres around their midpoints (they cover the segment), B's as boxes.
   std::vector<double> spheres(4 * feat_a_.size());
@@ -165,8 +188,8 @@ void EdgeContact::rebuild_search(const ContactSurface& a, const double* xa, cons
   }
   search_ = BufferedSearch(2 * reach_);
   search_.build(boxes, spheres.data(), static_cast<int>(feat_a_.size()));
-  remember(a, xa, xa0_);
-  remember(b, xb, xb0_);
+  remember(restricted_ ? watch_a_ : a.nodes, xa, xa0_);
+  remember(restricted_ ? watch_b_ : b.nodes, xb, xb0_);
   stale_ = false;
 }
 

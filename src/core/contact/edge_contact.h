@@ -69,6 +69,11 @@ public:
   const SurfaceContactOptions& options() const { return opt_; }
   // After any topology change of either side: the search starts afresh.
   void invalidate() { stale_ = true; }
+  // The search takes only these edges of a and of b (ascending surface edge indices; the feature
+  // ones among them) and watches only their nodes' travel: a distributed body's part, whose
+  // pairs all have an edge of its own and one whose facets it knows (body/piece_ghosts.h), need
+  // not search the whole surface. Starts the search afresh.
+  void restrict_search(std::vector<int> edges_a, std::vector<int> edges_b);
   // Adds the edge contact forces between a's and b's feature edges (self: the same surface,
   // a = b). keep (edge of a, edge of b), when given, picks the candidate pairs this caller
   // evaluates (a distributed body's pieces: each pair on one rank, body/piece_ghosts.h); the
@@ -104,7 +109,9 @@ private:
   SurfaceContactOptions opt_;
   BufferedSearch search_{0.0};
   std::vector<int> feat_a_, feat_b_; // feature edges of each side, search index -> edge
-  std::vector<double> xa0_, xb0_;    // surface node positions at the search's build
+  std::vector<double> xa0_, xb0_;    // watched node positions at the search's build
+  bool restricted_ = false;          // restrict_search: only_a_ / only_b_, their nodes watched
+  std::vector<int> only_a_, only_b_, watch_a_, watch_b_;
   double reach_ = 0;                 // deepest accepted pair: the rebuild threshold
   bool stale_ = true;
   std::vector<EdgeTouch> touches_;
