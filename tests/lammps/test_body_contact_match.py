@@ -1,7 +1,8 @@
 """Contact of fix fem/body under LAMMPS through the core's BodyDriver, against LIGGGHTS.
 
 * two elastic blocks with `contact_bodies yes` (the scene of tests/integration/test_body_contact,
-  frictionless), A hitting B: the contact between two fix fem/body of one host, at np 1 and 2;
+  frictionless), A hitting B: the contact between two fix fem/body of one host, at np 1 and 2,
+  and at np 2 with A `parallel distributed` (its pairs with the replicated B evaluated on rank 0);
 * a rigid block ('rigid yes motion linear 0 0 0.1') meeting a falling sphere (COR 0.5): the
   thermo histories agree between hosts and the sphere leaves at 0.1 + 0.5 (0.3 + 0.1) m/s.
 
@@ -32,6 +33,16 @@ for np_ in (1, 2):
             and max(abs(p - px[0]) for p in px) < 1e-9 * abs(px[0]),
             f"np {np_}: under LAMMPS the blocks touch, B ends faster than A "
             f"({rows[-1][1]:.4f}, {rows[-1][2]:.4f} kg m/s) and the pair's momentum is conserved")
+# ---- a distributed body in contact with a replicated one (A distributed over 2 ranks) ----
+runs = run_both("body_contact2d", 2, dict(steps=8000, pa="distributed"), energy="a.csv")
+compare_hosts("body_contact2d, A distributed,", 2, runs, energy="a.csv", events=False)
+worst = worst_difference(*(h.read_csv(os.path.join(runs[k][0], "b.csv"))
+                           for k in ("liggghts", "lammps")), "body_contact2d A distributed (b.csv)")
+h.check(worst <= TOL, f"body_contact2d, A distributed at np 2: body B's history agrees between "
+                      f"hosts (largest difference {worst:.2e} of the column scale)")
+h.check("fix fem/body a: a.msh" in runs["lammps"][1] and "distributed over 2 ranks" in
+        runs["lammps"][1] and max(abs(r[5]) for r in h.thermo_blocks(runs["lammps"][1])[-1][1]) > 0,
+        "under LAMMPS block A is distributed over 2 ranks and touches the replicated B")
 # ---- a rigid body in prescribed motion hit by a particle ----
 for np_ in (1, 2):
     rows = {}
