@@ -2,8 +2,10 @@
 in tension, on a mesh whose element edges run at +-60 degrees to the load (none along the
 expected crack), cracks along a straighter path with min_size than with boundary-only cracks; both energy balances close; np 1 = np 2; no cut leaves a piece
 below min_size; a restart after the cuts continues exactly; a free tet4 bar torn apart makes
-cuts and keeps its momentum (zero) and mass, and breaks the same with edge-to-edge contact on
-(contact_edges yes: no pair of edges of its crack faces is taken for a contact); with friction 0
+cuts and keeps its momentum (zero) and mass, and cracks the same with edge-to-edge contact on
+(contact_edges yes: no pair of edges of its crack faces is taken for a contact; its halves stay
+joined by pinched nodes, docs/fracture.md, Restrictions: the fragment count is reported, not
+asserted, as the log's "2 fragments" are the bar and a 0.17 g chip); with friction 0
 its contact work stays <= 0 (to 0.5 % of the dissipated energy): a split node against the facets
 around its own copy is no source of energy.
 
@@ -204,15 +206,17 @@ p_scale = mass * 1.0
 pmax = max(abs(r[hdr.index(c)]) for r in rows3 for c in ("body[13]", "body[14]", "body[15]"))
 h.check(pmax < 1e-12 * p_scale, f"tet4: momentum stays zero through the cuts (|p| <= {pmax:.1e} kg m/s)")
 frag = re.findall(r"step \d+: (\d+) fragments, masses ([0-9.e+\- ]+)", log3)
-h.check(len(frag) > 0 and int(frag[-1][0]) >= 2,
-        f"tet4: the bar broke ({frag[-1][0] if frag else 0} fragments)")
+# Reported, not asserted: the bar's halves stay joined by pinched nodes (docs/fracture.md,
+# Restrictions); the "2 fragments" of the log are the bar and a chip of 0.17 g, not a break.
+print(f"note: tet4 bar: {frag[-1][0] if frag else 1} fragments at the end "
+      f"(masses {frag[-1][1].strip() if frag else '-'})")
 # Edge-to-edge contact on: the crack faces open as without it. The edges of the two faces of a
 # crack meet at its split nodes and their copies, where an opening or sliding crack looks like
 # edge penetration (edge_contact.h); such pairs are no contact, and the bar tearing apart
 # brings no other edges together within these steps, so the run is the one without edge
 # contact, byte for byte (before that rule it stayed one piece, the faces held shut).
 with open(os.path.join(wd3, "energy3d.csv")) as f, open(os.path.join(wd3n, "energy3d.csv")) as g:
-    h.check(f.read() == g.read(), "tet4: contact_edges yes tears the bar exactly as contact_edges no "
+    h.check(f.read() == g.read(), "tet4: contact_edges yes cracks the bar exactly as contact_edges no "
                                   "(energy files equal byte for byte)")
 h.check(log_of(wd3n).count("crack through element") == len(cuts3),
         "tet4: the same cuts with and without edge contact")
