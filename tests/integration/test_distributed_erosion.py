@@ -13,6 +13,8 @@ the second) at np 3:
   figure), and the thermo (contacts, particle + body energy) within 1e-10 of its scale: the sphere
   meets, in the host step of an erosion, the surface without the eroded elements on every rank
   (the parts' facet ghosts are renewed before the contact).
+* item 4: with `rebalance 1.05 every 50` at np 3 the yielded and eroded elements' modelled work
+  triggers repartitions (logged), and the run is the np 1 run (1e-10);
 * restart: written at step 560 by np 3 distributed (after 3 batches), continued at np 2
   distributed and at np 1 replicated (the parts' records merged), and written and continued at
   np 1: the later lines, energy rows and thermo rows as those of the uninterrupted np 1 run,
@@ -172,6 +174,15 @@ for np_ in (2, 3, 4):
 # the second (the lines and the stable step in the order of the evaluations).
 ref2 = run(1, "replicated substeps 2")
 compare("substeps 2, np 3 distributed", ref2, run(3, "distributed substeps 2"))
+# Item 4: a yielding, eroding body's modelled work drifts (a yielded element at twice the cost of
+# an elastic one, an eroded one at none); with `rebalance 1.05 every 50` at np 3 the parts are
+# repartitioned (logged) and the run stays the np 1 run. Before, only breaking bodies were checked.
+reb = run(3, "distributed rebalance 1.05 every 50")
+with open(os.path.join(reb["wd"], "log.liggghts")) as f:
+    repartitions = [ln for ln in f.read().splitlines() if "repartitioned" in ln]
+h.check(len(repartitions) > 0, f"rebalance 1.05 every 50, np 3: {len(repartitions)} repartitions "
+                               f"logged ({repartitions[0].strip() if repartitions else '-'})")
+compare("rebalance 1.05 every 50, np 3 distributed", ref, reb)
 
 # Restart of the eroded distributed body (the parts' records, merged), continued at
 # np 2 distributed and np 1 replicated, and the replicated restart (written and continued at

@@ -17,19 +17,25 @@ namespace
 
 // Modelled cost of a damaged element against an intact one of the same type: a damaged Rankine
 // point takes the eigen-solve and spectral split that an intact point below f_t skips (materials/
-// rankine.cpp). A model, not a measurement (docs/distributed_bodies.md).
+// rankine.cpp). A yielded J2 element likewise: its points that flow take the radial return
+// (materials/plasticity.cpp) that an elastic trial skips. Models, not measurements
+// (docs/distributed_bodies.md).
 constexpr int kDamagedElementCost = 2;
+constexpr int kYieldedElementCost = 2;
 
-// Per element: its integration points, times kDamagedElementCost where one is damaged; 0 for
-// eroded elements. These are the dual graph's vertex weights and the parts' work.
+// Per element: its integration points, times kDamagedElementCost where one is damaged (or
+// kYieldedElementCost where one has yielded); 0 for eroded elements. These are the dual graph's
+// vertex weights and the parts' work.
 std::vector<int64_t> element_costs(const Body& body)
 {
   const Mesh& mesh = body.mesh();
   std::vector<int64_t> cost(mesh.num_elems(), 0);
   for (int e = 0; e < mesh.num_elems(); ++e)
     if (mesh.active[e])
-      cost[e] =
-          points_per_elem(mesh.etype[e]) * (body.element_damaged(e) ? kDamagedElementCost : 1);
+      cost[e] = points_per_elem(mesh.etype[e]) *
+                (body.element_damaged(e)   ? kDamagedElementCost
+                 : body.element_yielded(e) ? kYieldedElementCost
+                                           : 1);
   return cost;
 }
 

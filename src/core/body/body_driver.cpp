@@ -640,9 +640,9 @@ void BodyDriver::end_step(std::int64_t step, double dt)
   // Fracture first: it erodes the collapsed failed elements, whose stable step the periodic
   // check would otherwise follow for one step.
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
-  // A distributed body's modelled work drifts only where elements can be damaged (item 4).
-  if (distributed_ && spec_->fracture_every > 0 && step % spec_->rebalance_every == 0)
-    check_balance(step);
+  // A distributed body's modelled work drifts only where elements can be damaged, yield or
+  // leave (item 4).
+  if (distributed_ && work_can_drift() && step % spec_->rebalance_every == 0) check_balance(step);
   if (step % kStableStepCheckEvery == 0) check_squeezed(step, dt);
   write_energy_row_if_due(step);
 }

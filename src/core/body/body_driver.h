@@ -169,6 +169,8 @@ public:
   // A distributed body's part in global numbers, with the whole body's fields for output.
   const PartTopology& topology() const { return topo_; }
   bool can_erode() const { return spec_->erosion.on() || spec_->fracture_every > 0; }
+  // Whether a part's modelled work (body_breaking.cpp, element_costs) can change in a run.
+  bool work_can_drift() const { return can_erode() || spec_->material.plastic_model(); }
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }
   // The contact scene this body belongs to (null: none set up yet) and its index there.

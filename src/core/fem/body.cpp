@@ -2,6 +2,7 @@
 #include "fem/body.h"
 
 #include "materials/material_table.h"
+#include "materials/plasticity.h"
 
 #include <algorithm>
 #include <cmath>
@@ -372,6 +373,15 @@ bool Body::element_damaged(int e) const
   if (per == 0 || !mesh_.active[e]) return false;
   for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q)
     if (point_damaged(material_, &state_[space_.state_offset(e) + q * per])) return true;
+  return false;
+}
+
+bool Body::element_yielded(int e) const
+{
+  if (!material_.plastic_model() || !mesh_.active[e]) return false;
+  const int per = material_model_info(material_.model).state_per_point;
+  for (int q = 0; q < points_per_elem(mesh_.etype[e]); ++q)
+    if (plastic_equivalent_strain(&state_[space_.state_offset(e) + q * per]) > 0) return true;
   return false;
 }
 

@@ -232,6 +232,9 @@ public:
   // Whether a point of element e is damaged, read from its material state (not from the last
   // force evaluation's list): false for eroded elements and materials without damage.
   bool element_damaged(int e) const;
+  // Whether a point of element e has yielded (equivalent plastic strain > 0; plastic models
+  // only): false for eroded elements and materials without plasticity.
+  bool element_yielded(int e) const;
   // The elements at failure measure 1 (a point carries no more tension), ascending, as the last
   // force evaluation found them when it covered the whole body (else null: use
   // element_failures). An element eroded since then may be listed.
