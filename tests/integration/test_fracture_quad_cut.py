@@ -5,7 +5,8 @@ left end, right end at 0.1 m/s), cracks along a straighter path with min_size 0.
 boundary-only cracks; cuts happen (logged); no piece falls below min_size of its mesh element
 (areas of the frame's cells grouped by the field mesh_element); the energy balance closes;
 np 1 = np 2, byte for byte. The same bar free, its halves thrown apart (and all of it moving up
-at 0.5 m/s), cuts quads and keeps its momentum, and its mass (p_y = mass x 0.5 m/s).
+at 0.5 m/s), cuts quads and keeps its momentum, and its mass (p_y = mass x 0.5 m/s), and comes
+apart in two fragments whose masses add up to the bar's.
 
 Parameters (in.fracture_quad_cut): the concrete-like ones of test_fracture_cut (f_t 3 MPa, G_f 100
 N/m, CEB-FIP Model Code 1990 ranges), the load of test_fracture_cut (0.1 m/s, ramp 1e-4 s) over
@@ -199,6 +200,17 @@ h.check(drift < 1e-12 * bar_mass,
 h.check(abs(p0[1] / (VY * bar_mass) - 1) < 1e-12,
         f"free bar: p_y = mass x {VY} m/s with the bar's mass {bar_mass:.5f} kg at every step")
 e = h.read_csv(os.path.join(wd_f, "energy.csv"))
+# The free bar comes apart: the node at the crack's mouth that held the two face-connected
+# halves together (never split itself) is separated once the elements beside the opened edge
+# no longer soften (nodal_fracture.cpp, separate_pinched_nodes), and no chip of failed material
+# is cut loose: two fragments at the end, whose masses (log, 4 digits) add up to the bar's.
+frag_f = re.findall(r"step \d+: (\d+) fragments, masses ([0-9.e+\- ]+)", log_f)
+h.check(int(e["fragments"][-1]) == 2 and len(frag_f) > 0 and int(frag_f[-1][0]) == 2,
+        f"free bar: ends in 2 fragments (energy file {int(e['fragments'][-1])}, log "
+        f"{frag_f[-1][0] if frag_f else 0})")
+m_f = sum(float(m) for m in frag_f[-1][1].split()) if frag_f else 0.0
+h.check(abs(m_f / bar_mass - 1) < 1e-3,
+        f"free bar: fragment masses sum to the bar's {bar_mass:.5f} kg ({m_f:.5f})")
 lhs = np.array(e["kinetic"]) + np.array(e["strain"]) + np.array(e["fracture_energy"])
 w = float(np.max(np.abs(lhs - lhs[0] - np.array(e["contact_work"]))) / lhs[0])
 h.check(w < 0.02, f"free bar: kinetic + strain + dissipated = initial + contact work within 2 % "

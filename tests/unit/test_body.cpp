@@ -395,6 +395,74 @@ TEST(NodalFracture, FragmentMassesSumToTheBodyAndSplitAlongACutColumn)
   EXPECT_NEAR(m[0] + m[1], total, 1e-12 * total);
 }
 
+// Two concrete quads side by side (x in [0, 0.02]) stretched along x by strain k in one drift,
+// their forces (and so their material state) evaluated, then the bottom middle node (1) split
+// with normal x: the crack runs up the shared edge and the top middle node (4), never split,
+// holds the two quads together alone (pinched).
+static Body pinched_pair(double k, double k_back)
+{
+  Material m;
+  m.E = 3e10;
+  m.nu = 0.2;
+  m.rho = 2400;
+  m.model = MaterialModel::Rankine;
+  m.ft = 3e6;
+  m.gf = 100;
+  Body b;
+  b.build(make_rect_mesh(2, 1, 0.02, 0.01, {0, 0}, ElemType::Quad4), m, false);
+  const double dt = 1e-7, g[3] = {0, 0, 0};
+  for (const double strain : {k, k_back - k}) { // to k, then back by k - k_back
+    for (int n = 0; n < b.num_nodes(); ++n) {
+      const double v[3] = {strain / dt * b.mesh().X[3 * n], 0, 0};
+      b.set_velocity({n}, v);
+    }
+    b.begin_forces(); // no force: the drift is x += dt v exactly
+    b.half_kick_drift(dt);
+    b.begin_forces();
+    int inverted = -1;
+    b.finish_forces(b.add_internal_forces(&inverted), g, dt, true);
+  }
+  const double normal[3] = {1, 0, 0};
+  b.split_node(b.plan_split(1, normal));
+  return b;
+}
+
+// A node joint has no material area: like a contact it carries compression but no tension.
+static void expect_separated(Body& b)
+{
+  const std::vector<SplitEvent> events = insert_cracks(b, {}, 0.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].node, 4);
+  EXPECT_EQ(events[0].normal[0], 0.0);
+  const std::vector<double> m = fragment_masses(b);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_NEAR(m[0], m[1], 1e-12 * m[0]);
+}
+
+TEST(NodalFracture, PinchedNodeHoldsWhileItsSidesPressAndSeparatesInTension)
+{
+  // Squeezed (-3 f_t / E: intact, the quads pressing on each other through the node), the
+  // pinched node is kept (one fragment). Stretched below the peak (0.5 f_t / E: intact, pulling
+  // on each other) or past it (3 f_t / E: both softening), it is separated into two nodes,
+  // logged with a zero normal, and the pair falls in two fragments of equal mass.
+  const double eps_t = 3e6 / 3e10;
+  double n[3];
+  Body squeezed = pinched_pair(-3 * eps_t, -3 * eps_t);
+  ASSERT_TRUE(squeezed.plan_separation(4).splittable());
+  EXPECT_EQ(squeezed.element_failure(0, n), 0.0);
+  EXPECT_TRUE(insert_cracks(squeezed, {}, 0.0).empty());
+  EXPECT_EQ(fragment_masses(squeezed).size(), 1u);
+
+  Body stretched = pinched_pair(0.5 * eps_t, 0.5 * eps_t);
+  EXPECT_EQ(stretched.element_failure(0, n), 0.0);
+  expect_separated(stretched);
+
+  Body softening = pinched_pair(3 * eps_t, 3 * eps_t);
+  EXPECT_GT(softening.element_failure(0, n), 0.0);
+  EXPECT_LT(softening.element_failure(0, n), 1.0);
+  expect_separated(softening);
+}
+
 // A node held in x by one group and in y by another reports each component's reaction to the
 // group that holds it (it reported both to the group set last), and a split copy keeps that.
 TEST(Body, ReactionOfEachHeldComponentGoesToItsOwnGroup)

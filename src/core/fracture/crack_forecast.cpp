@@ -53,19 +53,15 @@ bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureC
   points.erase(std::unique(points.begin(), points.end()), points.end());
   for (int v : points)
     if (!nodes.whole_star[v] ||
-        crack_point_may_split(body, v, nodes.on_crack, rule.min_size, fraction))
+        crack_point_may_split(body, v, nodes.on_crack, rule.min_size, fraction, &nodes.whole_star))
       return true;
   return false;
 }
 
-bool pinched_crack_node(const Body& whole, const CrackNodes& nodes)
+bool pinched_crack_node(const Body& whole, const CrackNodes&)
 {
-  const std::vector<int>& cuts = whole.cut_nodes();
-  std::vector<char> on(nodes.split);
-  for (size_t k = 0; k < cuts.size(); k += 3)
-    on[cuts[k]] = 1;
-  for (int v = 0; v < whole.num_nodes(); ++v)
-    if (on[v] && whole.plan_separation(v).splittable()) return true;
+  for (int v : pinch_candidates(whole)) // the nodes separate_pinched_nodes looks at
+    if (pinch_may_separate(whole, v)) return true;
   return false;
 }
 

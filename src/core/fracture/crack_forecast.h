@@ -38,9 +38,10 @@ struct FractureCheckRule {
 bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureCheckRule& rule,
                       const std::function<double(int)>& fraction = nullptr);
 
-// Whether a node on a crack (split, its copy, or made by a cut) has a star that falls into pieces
-// touching only at it: the pinched nodes the check separates (insert_cracks), whatever rule holds
-// them back. Topological: it changes only with the topology (a check's changes, an erosion).
+// Whether a pinched node that the check's separation looks at (pinch_candidates) may be taken
+// apart without a topology change first (pinch_may_separate: a split one, or a never-split last
+// bond that waits on its joint's compression). Otherwise it changes only with the topology (a
+// check's changes, an erosion).
 bool pinched_crack_node(const Body& whole, const CrackNodes& nodes);
 
 } // namespace fracdem

@@ -6,6 +6,8 @@
 #include "materials/rankine.h"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 namespace fracdem
 {
@@ -147,24 +149,239 @@ bool opening_carries_tension(const Body& body, const SplitPlan& plan, const doub
   return false;
 }
 
+// The mesh node (as built or made by a cut) that node w is a split copy of, w itself if none.
+int split_root(const Body& body, int w)
+{
+  while (body.parents()[w] >= 0)
+    w = body.parents()[w];
+  return w;
+}
+
+// A facet of element e through node v: its other nodes (the second -1 in 2D) as they are now,
+// and the same nodes' split roots sorted, which two elements share exactly when they shared
+// the facet before a crack opened it.
+struct FacetAt {
+  int other[2];
+  std::pair<int, int> root_key;
+};
+
+void facets_at(const Body& body, int e, int v, std::vector<FacetAt>& facets)
+{
+  const Mesh& mesh = body.mesh();
+  const auto& c = mesh.conn[e];
+  const int k = nodes_per_elem(mesh.etype[e]);
+  facets.clear();
+  int s = 0;
+  while (c[s] != v)
+    ++s;
+  if (mesh.etype[e] == ElemType::Tet4) {
+    int o[3], m = 0;
+    for (int a = 0; a < 4; ++a)
+      if (a != s) o[m++] = c[a];
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j)
+        facets.push_back(
+            {{o[i], o[j]}, std::minmax(split_root(body, o[i]), split_root(body, o[j]))});
+  } else { // tri3 / quad4: the edges to the two cyclic neighbours
+    for (const int u : {c[(s + 1) % k], c[(s + k - 1) % k]})
+      facets.push_back({{u, -1}, {split_root(body, u), -1}});
+  }
+}
+
+// Unit normal of facet f through v, in the current configuration.
+void facet_normal(const Body& body, int v, const FacetAt& f, double n[3])
+{
+  const double* x = body.positions().data();
+  double a[3], b[3] = {0, 0, 1}; // 2D: the edge turned about z
+  for (int d = 0; d < 3; ++d)
+    a[d] = x[3 * f.other[0] + d] - x[3 * v + d];
+  if (f.other[1] >= 0)
+    for (int d = 0; d < 3; ++d)
+      b[d] = x[3 * f.other[1] + d] - x[3 * v + d];
+  n[0] = a[1] * b[2] - a[2] * b[1];
+  n[1] = a[2] * b[0] - a[0] * b[2];
+  n[2] = a[0] * b[1] - a[1] * b[0];
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int d = 0; d < 3; ++d)
+    n[d] = len > 0 ? n[d] / len : 0;
+}
+
+// Centroid of element e in the current configuration.
+void element_centroid(const Body& body, int e, double c[3])
+{
+  const Mesh& mesh = body.mesh();
+  const double* x = body.positions().data();
+  const int k = nodes_per_elem(mesh.etype[e]);
+  c[0] = c[1] = c[2] = 0;
+  for (int a = 0; a < k; ++a)
+    for (int d = 0; d < 3; ++d)
+      c[d] += x[3 * mesh.conn[e][a] + d] / k;
+}
+
+// The direction from side a to side b of a pinched node's plan: the mean normal of the facets
+// that a crack opened through the node (shared by an element of each side before it opened:
+// the same split roots), each turned to point from its side-a element to its side-b element;
+// the line between the sides' mean centroids if none. Returns false when both vanish.
+bool joint_direction(const Body& body, const SplitPlan& plan, double dir[3])
+{
+  std::vector<FacetAt> fa, fb;
+  dir[0] = dir[1] = dir[2] = 0;
+  for (int a : plan.side_a) {
+    facets_at(body, a, plan.node, fa);
+    for (int b : plan.side_b) {
+      facets_at(body, b, plan.node, fb);
+      for (const FacetAt& f : fa)
+        for (const FacetAt& g : fb) {
+          if (f.root_key != g.root_key) continue;
+          double n[3], ca[3], cb[3];
+          facet_normal(body, plan.node, f, n);
+          element_centroid(body, a, ca);
+          element_centroid(body, b, cb);
+          const double sign =
+              n[0] * (cb[0] - ca[0]) + n[1] * (cb[1] - ca[1]) + n[2] * (cb[2] - ca[2]) < 0 ? -1 : 1;
+          for (int d = 0; d < 3; ++d)
+            dir[d] += sign * n[d];
+        }
+    }
+  }
+  double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  if (len == 0) {
+    for (int side = 0; side < 2; ++side) {
+      const std::vector<int>& elems = side == 0 ? plan.side_a : plan.side_b;
+      for (int e : elems) {
+        double c[3];
+        element_centroid(body, e, c);
+        for (int d = 0; d < 3; ++d)
+          dir[d] += (side == 0 ? -c[d] : c[d]) / static_cast<double>(elems.size());
+      }
+    }
+    len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  }
+  if (len == 0) return false;
+  for (int d = 0; d < 3; ++d)
+    dir[d] /= len;
+  return true;
+}
+
+// The internal force that the elements `elems` exert on node v (restoring: m a = f), taken
+// again from the positions and the material state on state, a copy of the body's (the history
+// is not advanced), so it reads only what a whole-body gather carries.
+void elements_force_on(const Body& body, const std::vector<int>& elems, int v,
+                       std::vector<double>& state, double out[3])
+{
+  std::vector<double> f(3 * static_cast<size_t>(body.num_nodes()), 0.0);
+  for (int e : elems)
+    body.space().add_internal_forces(body.mesh(), body.positions().data(), e, e + 1, f.data(),
+                                     nullptr, nullptr, state.empty() ? nullptr : state.data());
+  std::copy(f.begin() + 3 * v, f.begin() + 3 * v + 3, out);
+}
+
+// The compression a pinched node transmits between the two sides of its plan (N; < 0: the
+// sides pull on each other): half the difference of the forces that each side's elements exert
+// on the node, along the direction from side a to side b. Side a pushes the node towards side
+// b when pressed against it, side b back towards side a.
+double joint_compression(const Body& body, const SplitPlan& plan)
+{
+  double dir[3];
+  if (!joint_direction(body, plan, dir)) return 0;
+  std::vector<double> state(body.material_state()); // each element is evaluated once
+  double fa[3], fb[3];
+  elements_force_on(body, plan.side_a, plan.node, state, fa);
+  elements_force_on(body, plan.side_b, plan.node, state, fb);
+  double c = 0;
+  for (int d = 0; d < 3; ++d)
+    c += 0.5 * (fa[d] - fb[d]) * dir[d];
+  return c;
+}
+
+// A pinched node that was never split (a surface node at a crack's mouth, a node between two
+// cracks) joins the elements on the two sides of each facet a crack opened through it. Such a
+// joint has no material area: like a contact it transmits compression but no tension (the
+// material there has cracked). So it waits while the two sides press on each other through it
+// (joint_compression > 0: the compression zone that a beam's halves hinge on; without contact
+// they would pass through each other) and goes once it is in tension or unloaded.
+bool separation_held(const Body& body, const SplitPlan& plan)
+{
+  return joint_compression(body, plan) > 0;
+}
+
+// Walks the elements side s (1: plan.side_a, 2: plan.side_b) stays joined to once plan.node is
+// split (across plan.node only within the side). Returns 1 when the walk reaches the other side
+// (the separation frees no piece), 2 when the side is a piece of completely failed elements
+// only, else 0; with stop_at_intact the walk ends (0) at the first element not failed.
+int walk_side(const Body& body, const SplitPlan& plan, char s, bool stop_at_intact,
+              const std::vector<char>* whole_star = nullptr)
+{
+  const Mesh& mesh = body.mesh();
+  const NodeStars& stars = body.stars();
+  std::vector<char> side(mesh.num_elems(), 0), seen(mesh.num_elems(), 0);
+  for (int e : plan.side_a)
+    side[e] = 1;
+  for (int e : plan.side_b)
+    side[e] = 2;
+  std::vector<int> queue(s == 1 ? plan.side_a : plan.side_b);
+  for (int e : queue)
+    seen[e] = 1;
+  bool failed_only = true;
+  for (size_t h = 0; h < queue.size(); ++h) {
+    double n[3];
+    if (failed_only && body.element_failure(queue[h], n) < 1.0) {
+      failed_only = false;
+      if (stop_at_intact) return 0;
+    }
+    for (int a = 0; a < nodes_per_elem(mesh.etype[queue[h]]); ++a) {
+      const int w = mesh.conn[queue[h]][a];
+      if (whole_star && !(*whole_star)[w] && w != plan.node) return 3; // beyond this part
+      for (const int* f = stars.begin(w); f != stars.end(w); ++f) {
+        if (seen[*f] || (w == plan.node && side[*f] != s)) continue;
+        if (side[*f] == 3 - s) return 1;
+        seen[*f] = 1;
+        queue.push_back(*f);
+      }
+    }
+  }
+  return failed_only ? 2 : 0;
+}
+
+// A never-split pinched node is separated only where it is the last bond between two pieces
+// (they touch nowhere else: several pinched nodes that hold the same two pieces wait for each
+// other, as crack points do) and neither piece is a chip of completely failed material (a
+// sliver of the band between two cracks: it carries nothing and would fly off).
+bool frees_whole_pieces(const Body& body, const SplitPlan& plan)
+{
+  const int b = walk_side(body, plan, 2, false);
+  return b == 0 && walk_side(body, plan, 1, true) != 2;
+}
+
+// A split that would cut loose a piece of completely failed elements (a chip of the band, or a
+// failed min_size piece of a cut element: it carries nothing and would fly off) waits.
+bool cuts_loose_chip(const Body& body, const SplitPlan& plan,
+                     const std::vector<char>* whole_star = nullptr)
+{
+  return walk_side(body, plan, 2, true, whole_star) == 2 ||
+         walk_side(body, plan, 1, true, whole_star) == 2;
+}
+
 // A node whose element star fell into pieces that touch only at the node (cracks on several
 // sides of it) is split into one node per piece (logged with a zero normal): fragments are
-// never held together by a single node.
+// never held together by a single node. Split nodes (copies, and the nodes split in this pass)
+// are separated at once. Any other node of an element with a split node can be pinched too
+// (a surface node at a crack's mouth, one between two cracks): those go only as the last bond
+// between two whole pieces (frees_whole_pieces) whose joint is not in compression
+// (separation_held). Candidates go in ascending order (the same decisions on every
+// replica); copies are appended, so a star of three pieces is taken apart in two passes.
 void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
 {
-  // Only nodes on a crack can have been pinched (their stars changed); copies are appended to
-  // the list, so a star of three pieces is taken apart in two passes.
-  std::vector<int> todo;
-  for (int w = 0; w < body.num_nodes(); ++w)
-    if (body.parents()[w] >= 0) todo.push_back(w);
+  std::vector<char> split(body.num_nodes(), 0);
   for (const SplitEvent& ev : events)
-    todo.push_back(ev.node);
-  std::sort(todo.begin(), todo.end());
-  todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    split[ev.node] = 1;
+  std::vector<int> todo = pinch_candidates(body, events);
   for (size_t k = 0; k < todo.size(); ++k) {
     const int v = todo[k];
     const SplitPlan plan = body.plan_separation(v);
     if (!plan.splittable()) continue;
+    const bool was_split = body.parents()[v] >= 0 || split[v]; // copies appended are split
+    if (!was_split && (!frees_whole_pieces(body, plan) || separation_held(body, plan))) continue;
     SplitEvent ev{v, -1, {0, 0, 0}, static_cast<int>(plan.side_b.size())};
     ev.copy = body.split_node(plan);
     todo.push_back(ev.copy);
@@ -199,6 +416,35 @@ void cut_star(Body& body, int v, const double n[3], double min_size, std::vector
 
 } // namespace
 
+std::vector<int> pinch_candidates(const Body& body, const std::vector<SplitEvent>& events)
+{
+  std::vector<char> split(body.num_nodes(), 0);
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (body.parents()[w] >= 0) split[w] = 1;
+  for (const SplitEvent& ev : events)
+    split[ev.node] = 1;
+  std::vector<char> on_crack(split);
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (body.parents()[w] >= 0) on_crack[body.parents()[w]] = 1;
+  std::vector<char> candidate(split);
+  for (int w = 0; w < body.num_nodes(); ++w) {
+    if (!on_crack[w]) continue;
+    for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
+      for (int a = 0; a < nodes_per_elem(body.mesh().etype[*e]); ++a)
+        candidate[body.mesh().conn[*e][a]] = 1;
+  }
+  std::vector<int> out;
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (candidate[w]) out.push_back(w);
+  return out;
+}
+
+bool pinch_may_separate(const Body& body, int v)
+{
+  const SplitPlan plan = body.plan_separation(v);
+  return plan.splittable() && (body.parents()[v] >= 0 || frees_whole_pieces(body, plan));
+}
+
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,
                                       std::vector<CutEvent>* cuts)
 {
@@ -228,6 +474,7 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
     }
     const SplitPlan plan = body.plan_split(v, n);
     if (!plan.splittable() || (!cutting && opening_carries_tension(body, plan, n))) continue;
+    if (cuts_loose_chip(body, plan)) continue;
     SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};
     ev.copy = body.split_node(plan);
     on_crack[v] = 1;
@@ -258,7 +505,8 @@ std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& fai
 // on the star's plan comes first, then a cut or a splittable plan changes the body; without, a
 // splittable plan whose opening carries no tension. The line tolerance is insert_cracks'.
 bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_crack,
-                           double min_size, const std::function<double(int)>& fraction)
+                           double min_size, const std::function<double(int)>& fraction,
+                           const std::vector<char>* whole_star)
 {
   const bool cutting = min_size > 0;
   const double line_tolerance = cutting ? std::min(1.0 / 3.0, 0.5 * min_size) : 1.0 / 3.0;
@@ -267,10 +515,12 @@ bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_
   if (e < 0 || band_already_cracked(body, on_crack, e, v, n, line_tolerance)) return false;
   const SplitPlan plan = body.plan_split(v, n);
   if (opening_carries_tension(body, plan, n)) return false;
-  if (plan.splittable()) return true;
-  return cutting && find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n,
-                                     min_size, fraction)
-                        .found();
+  if (cutting && find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n,
+                                  min_size, fraction)
+                     .found())
+    return true;
+  // The chip rule, where this body can tell (a walk that would leave a part: may split).
+  return plan.splittable() && !cuts_loose_chip(body, plan, whole_star);
 }
 
 std::vector<double> fragment_masses(const Body& body)

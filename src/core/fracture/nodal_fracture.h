@@ -73,9 +73,25 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
 // would be with the true fractions (the answer stays a superset). So is a body that holds only
 // part of v's neighbourhood (a part of a distributed body) as long as it holds v's whole star:
 // fewer elements around an edge only relax the cut's guards.
+// The chip rule (no split that cuts loose a piece of completely failed elements) too: whole_star
+// (per node, whether its element star is in this body; null: the whole body) stops its walks
+// where a part ends, and the point then counts as one that may split.
 bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_crack,
                            double min_size = 0,
-                           const std::function<double(int)>& fraction = nullptr);
+                           const std::function<double(int)>& fraction = nullptr,
+                           const std::vector<char>* whole_star = nullptr);
+
+// The nodes the separation of pinched nodes looks at (at the end of insert_cracks), ascending:
+// split nodes (those of `events` too) and every node of an element around a node on a crack (a
+// split node or its parent): a surface node at a crack's mouth, or one between two cracks, can be
+// pinched without being split.
+std::vector<int> pinch_candidates(const Body& body, const std::vector<SplitEvent>& events = {});
+
+// Whether the separation may take pinched node v apart at a later check without a topology
+// change first: a split node at once, a never-split one only as the last bond between two whole
+// pieces (which waits on its joint's compression, a state that changes from step to step). False
+// for a node whose star is whole, or one that is no last bond (held until the topology changes).
+bool pinch_may_separate(const Body& body, int v);
 
 // The elements of `failed` that a crack has reached: at least one of their nodes is split (a
 // split node or its copy). `erode_cracked` removes only these: erosion opens the body as a split
