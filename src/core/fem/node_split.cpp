@@ -2,6 +2,7 @@
 #include "fem/node_split.h"
 
 #include <algorithm>
+#include <array>
 #include <iterator>
 #include <stdexcept>
 #include <string>
@@ -10,15 +11,7 @@
 namespace fracdem
 {
 
-namespace
-{
-
-using Adjacency = std::vector<std::vector<int>>; // local star index -> face-neighbours in the star
-
-// Keys of the facets of element e that contain `node`, named by their other nodes so that two
-// elements share a facet through the node exactly when they share a key. 2D: the far node of each
-// edge at the node (second = -1); 3D: the sorted pair of the other two nodes of each triangle.
-void facet_keys(const Mesh& mesh, int e, int node, std::vector<std::pair<int, int>>& keys)
+void facets_through(const Mesh& mesh, int e, int node, std::vector<std::array<int, 2>>& others)
 {
   const auto& c = mesh.conn[e];
   const int k = nodes_per_elem(mesh.etype[e]);
@@ -31,11 +24,28 @@ void facet_keys(const Mesh& mesh, int e, int node, std::vector<std::pair<int, in
       if (a != s) o[m++] = c[a];
     for (int i = 0; i < 3; ++i)
       for (int j = i + 1; j < 3; ++j)
-        keys.push_back(std::minmax(o[i], o[j]));
+        others.push_back({o[i], o[j]});
   } else { // tri3 / quad4: only the two cyclic neighbours span an edge with the node
-    keys.push_back({c[(s + 1) % k], -1});
-    keys.push_back({c[(s + k - 1) % k], -1});
+    others.push_back({c[(s + 1) % k], -1});
+    others.push_back({c[(s + k - 1) % k], -1});
   }
+}
+
+namespace
+{
+
+using Adjacency = std::vector<std::vector<int>>; // local star index -> face-neighbours in the star
+
+// Keys of the facets of element e that contain `node`, named by their other nodes so that two
+// elements share a facet through the node exactly when they share a key. 2D: the far node of each
+// edge at the node (second = -1); 3D: the sorted pair of the other two nodes of each triangle.
+void facet_keys(const Mesh& mesh, int e, int node, std::vector<std::pair<int, int>>& keys)
+{
+  std::vector<std::array<int, 2>> others;
+  facets_through(mesh, e, node, others);
+  for (const auto& o : others)
+    keys.push_back(o[1] < 0 ? std::make_pair(o[0], -1)
+                            : std::pair<int, int>(std::minmax(o[0], o[1])));
 }
 
 // Face-adjacency inside the star, by sorting facet keys (no hashing, so the result is

@@ -1,12 +1,18 @@
 // Nodal fracture topology: element stars, split plans along a failure plane, node splitting.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "fem/mesh.h"
 
 namespace fracdem
 {
+
+// The facets of element e that contain `node`, each by its other nodes in connectivity order:
+// 3D (tet4) the three triangles' other two nodes; 2D the far node of the two edges at the node
+// (second -1).
+void facets_through(const Mesh& mesh, int e, int node, std::vector<std::array<int, 2>>& others);
 
 // Active elements around each node (the node's element star), sorted ascending. Built once, then
 // kept current by split_node, so that a fracture step never pays for a full rebuild.

@@ -167,25 +167,14 @@ struct FacetAt {
 
 void facets_at(const Body& body, int e, int v, std::vector<FacetAt>& facets)
 {
-  const Mesh& mesh = body.mesh();
-  const auto& c = mesh.conn[e];
-  const int k = nodes_per_elem(mesh.etype[e]);
+  std::vector<std::array<int, 2>> others;
+  facets_through(body.mesh(), e, v, others);
   facets.clear();
-  int s = 0;
-  while (c[s] != v)
-    ++s;
-  if (mesh.etype[e] == ElemType::Tet4) {
-    int o[3], m = 0;
-    for (int a = 0; a < 4; ++a)
-      if (a != s) o[m++] = c[a];
-    for (int i = 0; i < 3; ++i)
-      for (int j = i + 1; j < 3; ++j)
-        facets.push_back(
-            {{o[i], o[j]}, std::minmax(split_root(body, o[i]), split_root(body, o[j]))});
-  } else { // tri3 / quad4: the edges to the two cyclic neighbours
-    for (const int u : {c[(s + 1) % k], c[(s + k - 1) % k]})
-      facets.push_back({{u, -1}, {split_root(body, u), -1}});
-  }
+  for (const auto& o : others)
+    facets.push_back(
+        {{o[0], o[1]},
+         o[1] < 0 ? std::make_pair(split_root(body, o[0]), -1)
+                  : std::pair<int, int>(std::minmax(split_root(body, o[0]), split_root(body, o[1])))});
 }
 
 // Unit normal of facet f through v, in the current configuration.
