@@ -1,7 +1,6 @@
 // Forecast of a fracture check from one body's failed elements and crack flags.
 #include "fracture/crack_forecast.h"
 
-#include <algorithm>
 
 #include "fracture/nodal_fracture.h"
 
@@ -12,10 +11,8 @@ CrackNodes whole_crack_nodes(const Body& whole, double min_size)
 {
   const int nn = whole.num_nodes();
   CrackNodes c;
-  c.split.assign(nn, 0);
+  c.split = split_nodes(whole);
   c.whole_star.assign(nn, 1);
-  for (int w = 0; w < nn; ++w)
-    if (whole.parents()[w] >= 0) c.split[w] = c.split[whole.parents()[w]] = 1;
   c.on_crack = c.split;
   if (min_size > 0)
     for (size_t k = 0; k < whole.cut_nodes().size(); k += 3)
@@ -39,19 +36,12 @@ bool erodes(const Body& body, const CrackNodes& nodes, const FractureCheckRule& 
 bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureCheckRule& rule,
                       const std::function<double(int)>& fraction)
 {
-  const std::vector<int>* failed = body.failed_elements();
-  if (!failed) return true; // the last evaluation saw part of the elements
-  const Mesh& mesh = body.mesh();
-  std::vector<int> points;
-  for (int e : *failed) {
-    if (!mesh.active[e]) continue;
+  if (!body.failed_elements()) return true; // the last evaluation saw part of the elements
+  FailureMap map;
+  build_failure_map(body, map); // the active failed elements
+  for (int e : map.failed)
     if (erodes(body, nodes, rule, e)) return true;
-    for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
-      points.push_back(mesh.conn[e][a]);
-  }
-  std::sort(points.begin(), points.end());
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  for (int v : points)
+  for (int v : crack_points(body.mesh(), map))
     if (!nodes.whole_star[v] ||
         crack_point_may_split(body, v, nodes.on_crack, rule.min_size, fraction, &nodes.whole_star))
       return true;

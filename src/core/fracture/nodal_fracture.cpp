@@ -364,7 +364,7 @@ void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
   std::vector<char> split(body.num_nodes(), 0);
   for (const SplitEvent& ev : events)
     split[ev.node] = 1;
-  std::vector<int> todo = pinch_candidates(body, events);
+  std::vector<int> todo = pinch_candidates(body); // the nodes split here have copies now
   for (size_t k = 0; k < todo.size(); ++k) {
     const int v = todo[k];
     const SplitPlan plan = body.plan_separation(v);
@@ -405,17 +405,18 @@ void cut_star(Body& body, int v, const double n[3], double min_size, std::vector
 
 } // namespace
 
-std::vector<int> pinch_candidates(const Body& body, const std::vector<SplitEvent>& events)
+std::vector<char> split_nodes(const Body& body)
 {
   std::vector<char> split(body.num_nodes(), 0);
   for (int w = 0; w < body.num_nodes(); ++w)
-    if (body.parents()[w] >= 0) split[w] = 1;
-  for (const SplitEvent& ev : events)
-    split[ev.node] = 1;
-  std::vector<char> on_crack(split);
-  for (int w = 0; w < body.num_nodes(); ++w)
-    if (body.parents()[w] >= 0) on_crack[body.parents()[w]] = 1;
-  std::vector<char> candidate(split);
+    if (body.parents()[w] >= 0) split[w] = split[body.parents()[w]] = 1;
+  return split;
+}
+
+std::vector<int> pinch_candidates(const Body& body)
+{
+  const std::vector<char> on_crack = split_nodes(body);
+  std::vector<char> candidate(on_crack);
   for (int w = 0; w < body.num_nodes(); ++w) {
     if (!on_crack[w]) continue;
     for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
@@ -439,9 +440,7 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
 {
   // Nodes on a physical crack: split nodes and their copies (and, with cuts, the nodes made on
   // a crack's line by a cut, where the crack goes on).
-  std::vector<char> on_crack(body.num_nodes(), 0);
-  for (int w = 0; w < body.num_nodes(); ++w)
-    if (body.parents()[w] >= 0) on_crack[w] = on_crack[body.parents()[w]] = 1;
+  std::vector<char> on_crack = split_nodes(body);
   const bool cutting = min_size > 0;
   if (cutting)
     for (size_t k = 0; k < body.cut_nodes().size(); k += 3)
@@ -476,9 +475,7 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
 
 std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& failed)
 {
-  std::vector<char> split(body.num_nodes(), 0);
-  for (int w = 0; w < body.num_nodes(); ++w)
-    if (body.parents()[w] >= 0) split[w] = split[body.parents()[w]] = 1;
+  const std::vector<char> split = split_nodes(body);
   const Mesh& mesh = body.mesh();
   std::vector<int> reached;
   for (int e : failed)

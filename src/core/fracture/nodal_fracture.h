@@ -81,11 +81,14 @@ bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_
                            const std::function<double(int)>& fraction = nullptr,
                            const std::vector<char>* whole_star = nullptr);
 
+// Per node: whether a split put it on a physical crack (a split copy, or the node it was split
+// from).
+std::vector<char> split_nodes(const Body& body);
+
 // The nodes the separation of pinched nodes looks at (at the end of insert_cracks), ascending:
-// split nodes (those of `events` too) and every node of an element around a node on a crack (a
-// split node or its parent): a surface node at a crack's mouth, or one between two cracks, can be
-// pinched without being split.
-std::vector<int> pinch_candidates(const Body& body, const std::vector<SplitEvent>& events = {});
+// the split nodes and every node of an element around one: a surface node at a crack's mouth,
+// or one between two cracks, can be pinched without being split.
+std::vector<int> pinch_candidates(const Body& body);
 
 // Whether the separation may take pinched node v apart at a later check without a topology
 // change first: a split node at once, a never-split one only as the last bond between two whole
