@@ -38,21 +38,6 @@ std::vector<std::pair<int, int>> candidates(const std::vector<Aabb>& boxes,
   return search.candidates();
 }
 
-// Per rank, the forces of the nodes it sent (3 each, zeros where another rank gets the node).
-std::vector<std::vector<double>> forces_back(const std::vector<std::vector<int>>& sent,
-                                             const std::vector<std::vector<char>>& route,
-                                             const std::vector<double>& f)
-{
-  std::vector<std::vector<double>> back(sent.size());
-  for (size_t r = 0; r < sent.size(); ++r) {
-    back[r].assign(3 * sent[r].size(), 0.0);
-    for (size_t i = 0; i < sent[r].size(); ++i)
-      if (route[r][i])
-        std::copy(&f[3 * static_cast<size_t>(sent[r][i])],
-                  &f[3 * static_cast<size_t>(sent[r][i])] + 3, &back[r][3 * i]);
-  }
-  return back;
-}
 } // namespace
 
 // Every body with contact_bodies yes, in the host's order, where one of them is distributed (and
@@ -331,7 +316,7 @@ std::vector<std::vector<double>> BodyDriver::resolve_pair(size_t k, double dt, d
     else
       p.edges.evaluate(surface_, me, os, them, false, dt, [&](int e, int) { return known(e); });
   }
-  return forces_back(pair_sent_, pair_route_, pair_f_);
+  return routed_forces(pair_sent_, pair_route_, pair_f_.data());
 }
 
 // The forces of the nodes this part sent (3 per node, pair_message order) into f (part nodes).

@@ -231,19 +231,28 @@ int PieceGhosts::evaluate(const ContactSurface& s, SurfaceContact& nodes, EdgeCo
   return n;
 }
 
+std::vector<std::vector<double>> routed_forces(const std::vector<std::vector<int>>& sent,
+                                               const std::vector<std::vector<char>>& route,
+                                               const double* f)
+{
+  std::vector<std::vector<double>> back(sent.size());
+  for (size_t r = 0; r < sent.size(); ++r) {
+    back[r].assign(3 * sent[r].size(), 0.0);
+    for (size_t i = 0; i < sent[r].size(); ++i)
+      if (route[r][i])
+        std::copy(&f[3 * static_cast<size_t>(sent[r][i])],
+                  &f[3 * static_cast<size_t>(sent[r][i])] + 3, &back[r][3 * i]);
+  }
+  return back;
+}
+
 void PieceGhosts::forces_back(const double* rf, double* f_part,
                               std::vector<std::vector<double>>& back) const
 {
   for (size_t i = 0; i < mine_.size(); ++i)
     for (int d = 0; d < 3; ++d)
       f_part[3 * mine_local_[i] + d] += rf[3 * mine_[i] + d];
-  back.resize(partners_.size());
-  for (size_t k = 0; k < partners_.size(); ++k) {
-    back[k].assign(3 * recv_nodes_[k].size(), 0.0);
-    for (size_t i = 0; i < recv_nodes_[k].size(); ++i)
-      if (route_[k][i])
-        std::copy(&rf[3 * recv_nodes_[k][i]], &rf[3 * recv_nodes_[k][i]] + 3, &back[k][3 * i]);
-  }
+  back = routed_forces(recv_nodes_, route_, rf);
 }
 
 void PieceGhosts::add_returned(const std::vector<std::vector<double>>& returned,

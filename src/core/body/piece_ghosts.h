@@ -27,6 +27,13 @@ namespace fracdem
 // the element of e's first facet. Both hold what they need: the node and edge e are in S of
 // their part, and anything within reach of them belongs to a partner (set_boxes), whose S holds
 // every node of its facets.
+// Per sender, the forces (3 each, from f by node number) of the nodes it sent, zeros where
+// route says another sender gets the node: the replies that return forces computed on a replica
+// to the parts that sent the nodes (PieceGhosts, and a distributed body's pairs on rank 0).
+std::vector<std::vector<double>> routed_forces(const std::vector<std::vector<int>>& sent,
+                                               const std::vector<std::vector<char>>& route,
+                                               const double* f);
+
 class PieceGhosts
 {
 public:
