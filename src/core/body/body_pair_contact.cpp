@@ -101,15 +101,8 @@ void BodyDriver::take_pair_group(const std::vector<BodyDriver*>& group)
 // evaluates it): a split run continues them as the scene's pairs do (ContactScene::pair_state).
 void BodyDriver::carry_pair_state(const BodyPair& from, BodyPair& to)
 {
-  std::vector<double> state;
-  from.mine_on_other.pack_state(state);
-  to.mine_on_other.unpack_state(state.data(), state.size());
-  state.clear();
-  from.other_on_mine.pack_state(state);
-  to.other_on_mine.unpack_state(state.data(), state.size());
-  state.clear();
-  from.edges.pack_state(state);
-  to.edges.unpack_state(state.data(), state.size());
+  unpack_pair_state(pack_pair_state(from.mine_on_other, from.other_on_mine, from.edges),
+                    to.mine_on_other, to.other_on_mine, to.edges);
 }
 
 // At the first evaluation of a run (every body's friction known): the pair (a, b), a the earlier

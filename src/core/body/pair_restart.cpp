@@ -70,26 +70,6 @@ std::vector<PairRecord> read_pairs(const std::vector<double>& in)
   return out;
 }
 
-// A contact object's state as its record count and records (pack_state: `width` doubles each).
-template <class Contact>
-void put_state(const Contact& c, int width, std::vector<double>& out)
-{
-  std::vector<double> state;
-  c.pack_state(state);
-  out.push_back(static_cast<double>(state.size() / width));
-  out.insert(out.end(), state.begin(), state.end());
-}
-
-template <class Contact>
-void take_state(Contact& c, int width, const std::vector<double>& in, std::size_t& at)
-{
-  if (at >= in.size()) corrupt();
-  const std::size_t len = static_cast<std::size_t>(in[at++]) * width;
-  if (at + len > in.size()) corrupt();
-  c.unpack_state(in.data() + at, len);
-  at += len;
-}
-
 // The record of (first, second) among the bodies' restored records; null: none.
 const PairRecord* find_pair(const std::vector<PairRecord>& records, const std::string& first,
                             const std::string& second)
@@ -126,11 +106,10 @@ std::vector<double> BodyDriver::pair_records() const
   for (const BodyPair& p : pairs_) {
     const BodyDriver& first = p.other_first ? *p.other : *this;
     const BodyDriver& second = p.other_first ? *this : *p.other;
-    PairRecord r{first.id_, second.id_, {}};
-    put_state(p.other_first ? p.other_on_mine : p.mine_on_other, 3, r.state);
-    put_state(p.other_first ? p.mine_on_other : p.other_on_mine, 3, r.state);
-    put_state(p.edges, 6, r.state);
-    put_pair(r, out);
+    put_pair({first.id_, second.id_,
+              p.other_first ? pack_pair_state(p.other_on_mine, p.mine_on_other, p.edges)
+                            : pack_pair_state(p.mine_on_other, p.other_on_mine, p.edges)},
+             out);
   }
   return out;
 }
@@ -197,10 +176,10 @@ void BodyDriver::take_restored_body_pairs()
     }
     for (size_t k = 0; k < pairs_.size(); ++k) {
       BodyPair& p = pairs_[k];
-      std::size_t at = 0;
-      take_state(p.other_first ? p.other_on_mine : p.mine_on_other, 3, found[k]->state, at);
-      take_state(p.other_first ? p.mine_on_other : p.other_on_mine, 3, found[k]->state, at);
-      take_state(p.edges, 6, found[k]->state, at);
+      if (p.other_first)
+        unpack_pair_state(found[k]->state, p.other_on_mine, p.mine_on_other, p.edges);
+      else
+        unpack_pair_state(found[k]->state, p.mine_on_other, p.other_on_mine, p.edges);
     }
   } catch (const std::exception& e) {
     fail(prefix() + e.what());

@@ -448,6 +448,28 @@ void ContactScene::gather_self_state(int i)
   sc->import_state(nodes, buf.data());
 }
 
+namespace
+{
+template <class Contact>
+void put_state(const Contact& c, std::size_t width, std::vector<double>& out)
+{
+  std::vector<double> state;
+  c.pack_state(state);
+  out.push_back(static_cast<double>(state.size() / width));
+  out.insert(out.end(), state.begin(), state.end());
+}
+
+template <class Contact>
+void take_state(Contact& c, std::size_t width, const std::vector<double>& in, std::size_t& at)
+{
+  if (at >= in.size()) throw std::runtime_error("contact scene: short pair state");
+  const std::size_t len = width * static_cast<std::size_t>(in[at++]);
+  if (at + len > in.size()) throw std::runtime_error("contact scene: short pair state");
+  c.unpack_state(in.data() + at, len);
+  at += len;
+}
+} // namespace
+
 std::vector<double> ContactScene::pair_state(int a, int b) const
 {
   std::vector<double> out;
@@ -476,27 +498,34 @@ std::vector<double> ContactScene::pair_state(int a, int b) const
         out[count_at] += 1;
       }
   }
-  std::vector<double> edges; // evaluated on every rank alike: every rank holds it whole
-  edge_pairs_[p].pack_state(edges);
-  out.push_back(static_cast<double>(edges.size() / 6));
-  out.insert(out.end(), edges.begin(), edges.end());
+  put_state(edge_pairs_[p], 6, out); // evaluated on every rank alike: every rank holds it whole
   return out;
 }
 
 void ContactScene::restore_pair_state(int a, int b, const std::vector<double>& state)
 {
-  std::size_t at = 0;
-  const auto take = [&](std::size_t width, auto&& unpack) {
-    if (at >= state.size()) throw std::runtime_error("contact scene: short pair state");
-    const std::size_t len = width * static_cast<std::size_t>(state[at++]);
-    if (at + len > state.size()) throw std::runtime_error("contact scene: short pair state");
-    unpack(state.data() + at, len);
-    at += len;
-  };
   const int p = pair_index(a, b);
-  for (int dir = 0; dir < 2; ++dir)
-    take(3, [&](const double* in, std::size_t len) { pairs_[2 * p + dir].unpack_state(in, len); });
-  take(6, [&](const double* in, std::size_t len) { edge_pairs_[p].unpack_state(in, len); });
+  unpack_pair_state(state, pairs_[2 * p], pairs_[2 * p + 1], edge_pairs_[p]);
+}
+
+
+std::vector<double> pack_pair_state(const SurfaceContact& a_on_b, const SurfaceContact& b_on_a,
+                                    const EdgeContact& edges)
+{
+  std::vector<double> out;
+  put_state(a_on_b, 3, out);
+  put_state(b_on_a, 3, out);
+  put_state(edges, 6, out);
+  return out;
+}
+
+void unpack_pair_state(const std::vector<double>& state, SurfaceContact& a_on_b,
+                       SurfaceContact& b_on_a, EdgeContact& edges)
+{
+  std::size_t at = 0;
+  take_state(a_on_b, 3, state, at);
+  take_state(b_on_a, 3, state, at);
+  take_state(edges, 6, state, at);
   if (at != state.size()) throw std::runtime_error("contact scene: corrupt pair state");
 }
 

@@ -63,6 +63,15 @@ struct SceneComm {
 // evaluates it (edge contacts are a few per cent of the contact work), so its per-pair state
 // stays the same everywhere (restart records come from rank 0), and the forces are added on the
 // part pair_part(a, b) only.
+// A pair's contact state in ContactScene::pair_state's layout (nodes of a on facets of b, nodes of
+// b on facets of a: each a record count and (node, penetration, offset) records; then the edge
+// pairs' count and records of 6) from its three objects, and back into them (throws on a
+// corrupt state).
+std::vector<double> pack_pair_state(const SurfaceContact& a_on_b, const SurfaceContact& b_on_a,
+                                    const EdgeContact& edges);
+void unpack_pair_state(const std::vector<double>& state, SurfaceContact& a_on_b,
+                       SurfaceContact& b_on_a, EdgeContact& edges);
+
 class ContactScene
 {
 public:
