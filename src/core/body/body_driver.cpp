@@ -2,6 +2,7 @@
 #include "body/body_driver.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cinttypes>
 #include <cmath>
 #include <cstdarg>
@@ -50,6 +51,9 @@ constexpr double kSelfContactSection = 1.0;
 constexpr double kSelfEdgeSection = 2.0;
 constexpr double kHeldContactSection = 3.0;
 constexpr double kPairContactSection = 4.0;
+// The head's sections in the order BodyDriver keeps them (record_head, read_head).
+constexpr double kHeadSectionTags[] = {kSelfContactSection, kSelfEdgeSection, kHeldContactSection,
+                                       kPairContactSection};
 
 // The placement keywords as the input writes them.
 std::string placement_text(bool rigid, const std::vector<MeshTransform>& transforms)
@@ -1015,8 +1019,9 @@ bool BodyDriver::replays_body_contacts(bool count_work) const
     return true;
   }
   if (!scene_) return contacts_held_;
-  // Bodies in contact with each other: only where they are the last run's (a partner gone would
-  // still push; after a restart their pairs start afresh, docs/fix_fem_body.md).
+  // Bodies in contact with each other: only where they are the last run's and their pairs go on
+  // (a partner gone would still push; after a restart, where the file held their pairs:
+  // take_restored_scene_pairs, docs/fix_fem_body.md).
   if (scene_owner_->scene_members_.size() > 1 && !scene_owner_->scene_continues_) return false;
   for (const BodyDriver* m : scene_owner_->scene_members_)
     if (!m->contacts_held_) return false;
@@ -1487,11 +1492,10 @@ std::vector<double> BodyDriver::record_head(const std::vector<double>& held) con
   if (spec_->contact_bodies > 0) self_edges_.pack_state(state[1]);
   state[2] = held;
   state[3] = pair_records();
-  const double tags[kHeadSections] = {kSelfContactSection, kSelfEdgeSection, kHeldContactSection,
-                                      kPairContactSection};
+  static_assert(std::size(kHeadSectionTags) == kHeadSections, "one tag per head section");
   for (int i = 0; i < kHeadSections; ++i)
     if (!state[i].empty()) {
-      buf.push_back(tags[i]);
+      buf.push_back(kHeadSectionTags[i]);
       buf.push_back(static_cast<double>(state[i].size()));
       buf.insert(buf.end(), state[i].begin(), state[i].end());
     }
@@ -1653,11 +1657,10 @@ void BodyDriver::read_head(const double* head, int n, const double* (&state)[kHe
     const double tag = head[k];
     const int size = k + 1 < n ? static_cast<int>(head[k + 1]) : -1;
     if (size < 0 || k + 2 + size > n) fail("fix fem/body: corrupt restart record");
-    const int section = tag == kSelfContactSection   ? 0
-                        : tag == kSelfEdgeSection    ? 1
-                        : tag == kHeldContactSection ? 2
-                        : tag == kPairContactSection ? 3
-                                                     : -1;
+    const double* const known = std::find(kHeadSectionTags, kHeadSectionTags + kHeadSections, tag);
+    const int section = known == kHeadSectionTags + kHeadSections
+                            ? -1 // a section of a later version: skipped
+                            : static_cast<int>(known - kHeadSectionTags);
     if (section >= 0) {
       state[section] = head + k + 2;
       state_size[section] = static_cast<size_t>(size);
