@@ -391,7 +391,9 @@ bool place_debris(const Body& body, const std::vector<int>& piece, std::vector<i
   std::vector<int> best(owner.size(), 0), placed(owner);
   for (const auto& entry : shared) { // ascending (piece, group): the lowest group wins ties
     const int d = entry.first.first;
-    if (entry.second > best[d]) best[d] = entry.second, placed[d] = entry.first.second;
+    if (entry.second <= best[d]) continue;
+    best[d] = entry.second;
+    placed[d] = entry.first.second;
   }
   const bool any = placed != owner;
   owner = placed;
@@ -607,8 +609,9 @@ std::map<int, int> joined_classes(const Body& body, int w, const std::vector<int
 // owns it (pinch_groups: no chip is cut loose). The nodes that still join groups (never split:
 // a surface node at a crack's mouth, one between two cracks) are joints without material area:
 // the joints between two groups go together, as the last bond between them, where neither is
-// a chip, once they no longer press the groups together (parting_pairs). Ascending order: the
-// same decisions on every replica. Splitting at a joint cuts no facet, so the groups stay.
+// a chip, once they pull the groups apart with more than the unfailed material across them
+// could carry (parting_pairs). Ascending order: the same decisions on every replica. Parting a
+// node cuts no facet, so the pieces and groups stay those of the start of the pass.
 void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
 {
   const std::vector<int> candidates = pinch_candidates(body);

@@ -85,9 +85,10 @@ bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_
 // from).
 std::vector<char> split_nodes(const Body& body);
 
-// The nodes the separation of pinched nodes looks at (at the end of insert_cracks), ascending:
-// the split nodes and every node of an element around one: a surface node at a crack's mouth,
-// or one between two cracks, can be pinched without being split.
+// The split nodes and every node of an element around one, ascending: a surface node at a
+// crack's mouth, or one between two cracks, can be pinched without being split. The separation
+// at the end of insert_cracks parts the split ones among them at once and judges every node
+// that joins two groups of pieces; with none (no crack yet) it does nothing.
 std::vector<int> pinch_candidates(const Body& body);
 
 // Whether the separation may take a pinched node of the body apart at a later check without a
