@@ -3,9 +3,8 @@ in tension, on a mesh whose element edges run at +-60 degrees to the load (none 
 expected crack), cracks along a straighter path with min_size than with boundary-only cracks; both energy balances close; np 1 = np 2; no cut leaves a piece
 below min_size; a restart after the cuts continues exactly; a free tet4 bar torn apart makes
 cuts and keeps its momentum (zero) and mass, and cracks the same with edge-to-edge contact on
-(contact_edges yes: no pair of edges of its crack faces is taken for a contact; its halves stay
-joined by pinched nodes, docs/fracture.md, Restrictions: the fragment count is reported, not
-asserted; before the chip rule the log's "2 fragments" were the bar and a 0.17 g chip); with
+(contact_edges yes: no pair of edges of its crack faces is taken for a contact) and parts in
+exactly 2 halves (no chip: the debris of cut tets in its rough crack goes with one half); with
 friction 0
 its contact work stays <= 0 (to 0.5 % of the dissipated energy): a split node against the facets
 around its own copy is no source of energy.
@@ -206,11 +205,16 @@ mass = 2400 * 0.16 * 0.04 * 0.04
 p_scale = mass * 1.0
 pmax = max(abs(r[hdr.index(c)]) for r in rows3 for c in ("body[13]", "body[14]", "body[15]"))
 h.check(pmax < 1e-12 * p_scale, f"tet4: momentum stays zero through the cuts (|p| <= {pmax:.1e} kg m/s)")
-frag = re.findall(r"step \d+: (\d+) fragments, masses ([0-9.e+\- ]+)", log3)
-# Reported, not asserted: the bar's halves stay joined by pinched nodes (docs/fracture.md,
-# Restrictions); no chip of failed material comes loose (the chip rule).
-print(f"note: tet4 bar: {frag[-1][0] if frag else 1} fragments at the end "
-      f"(masses {frag[-1][1].strip() if frag else '-'})")
+frag = re.findall(r"step (\d+): (\d+) fragments, masses ([0-9.e+\- ]+)", log3)
+# The bar parts in two halves: the joints between them (never-split pinched nodes, some through
+# debris of cut tets inside the rough crack that goes with one half) go together once they pull
+# with more than the unfailed material across them could carry (docs/fracture.md, stage 3); no
+# chip comes loose, so exactly 2 fragments, each a half (>= 25 % of the mass), whose masses sum
+# to the bar's (checked below).
+halves = [float(m) for m in frag[-1][2].split()] if frag else [mass]
+h.check(len(halves) == 2 and min(halves) >= 0.25 * mass,
+        f"tet4: the bar parts in 2 halves, no chip ({len(halves)} fragments from step "
+        f"{frag[-1][0] if frag else '-'}, masses {' '.join(f'{m:.4f}' for m in halves)} kg)")
 # Edge-to-edge contact on: the crack faces open as without it. The edges of the two faces of a
 # crack meet at its split nodes and their copies, where an opening or sliding crack looks like
 # edge penetration (edge_contact.h); such pairs are no contact, and the bar tearing apart
@@ -222,12 +226,9 @@ with open(os.path.join(wd3, "energy3d.csv")) as f, open(os.path.join(wd3n, "ener
 h.check(log_of(wd3n).count("crack through element") == len(cuts3),
         "tet4: the same cuts with and without edge contact")
 e3 = h.read_csv(os.path.join(wd3, "energy3d.csv"))
-if frag:
-    total = sum(float(m) for m in frag[-1][1].split())
-    h.check(abs(total / mass - 1) < 1e-3,
-            f"tet4: fragment masses sum to the bar's {mass:.4f} kg ({total:.4f})")
-else:  # no piece came loose: the log has no fragment line
-    h.check(int(e3["fragments"][-1]) == 1, "tet4: one piece, as the energy file counts it")
+h.check(abs(sum(halves) / mass - 1) < 1e-3 and int(e3["fragments"][-1]) == 2,
+        f"tet4: fragment masses sum to the bar's {mass:.4f} kg ({sum(halves):.4f}); the energy "
+        f"file ends with {int(e3['fragments'][-1])} fragments")
 # The pieces collide (contact_bodies is on by default for a breaking body): their contact work
 # joins the balance.
 lhs = np.array(e3["kinetic"]) + np.array(e3["strain"]) + np.array(e3["fracture_energy"])

@@ -395,11 +395,12 @@ TEST(NodalFracture, FragmentMassesSumToTheBodyAndSplitAlongACutColumn)
   EXPECT_NEAR(m[0] + m[1], total, 1e-12 * total);
 }
 
-// Two concrete quads side by side (x in [0, 0.02]) stretched along x by strain k in one drift,
-// their forces (and so their material state) evaluated, then the bottom middle node (1) split
-// with normal x: the crack runs up the shared edge and the top middle node (4), never split,
-// holds the two quads together alone (pinched).
-static Body pinched_pair(double k, double k_back)
+// A row of nx concrete quads (0.01 m each) stretched along x by strain k between x0 and x1 (the
+// quads outside move rigidly) in one drift, then back by k - k_back, their forces (and so their
+// material state) evaluated; then the bottom middle node split with normal x: the crack runs up
+// the middle edge and the top middle node, never split, holds the two halves together alone
+// (pinched).
+static Body pinched_row(int nx, double k, double k_back, double x0, double x1)
 {
   Material m;
   m.E = 3e10;
@@ -409,11 +410,12 @@ static Body pinched_pair(double k, double k_back)
   m.ft = 3e6;
   m.gf = 100;
   Body b;
-  b.build(make_rect_mesh(2, 1, 0.02, 0.01, {0, 0}, ElemType::Quad4), m, false);
+  b.build(make_rect_mesh(nx, 1, 0.01 * nx, 0.01, {0, 0}, ElemType::Quad4), m, false);
   const double dt = 1e-7, g[3] = {0, 0, 0};
   for (const double strain : {k, k_back - k}) { // to k, then back by k - k_back
     for (int n = 0; n < b.num_nodes(); ++n) {
-      const double v[3] = {strain / dt * b.mesh().X[3 * n], 0, 0};
+      const double stretched = std::min(std::max(b.mesh().X[3 * n] - x0, 0.0), x1 - x0);
+      const double v[3] = {strain / dt * stretched, 0, 0};
       b.set_velocity({n}, v);
     }
     b.begin_forces(); // no force: the drift is x += dt v exactly
@@ -423,44 +425,44 @@ static Body pinched_pair(double k, double k_back)
     b.finish_forces(b.add_internal_forces(&inverted), g, dt, true);
   }
   const double normal[3] = {1, 0, 0};
-  b.split_node(b.plan_split(1, normal));
+  b.split_node(b.plan_split(nx / 2, normal));
   return b;
 }
 
-// A node joint has no material area: like a contact it carries compression but no tension.
-static void expect_separated(Body& b)
-{
-  const std::vector<SplitEvent> events = insert_cracks(b, {}, 0.0);
-  ASSERT_EQ(events.size(), 1u);
-  EXPECT_EQ(events[0].node, 4);
-  EXPECT_EQ(events[0].normal[0], 0.0);
-  const std::vector<double> m = fragment_masses(b);
-  ASSERT_EQ(m.size(), 2u);
-  EXPECT_NEAR(m[0], m[1], 1e-12 * m[0]);
-}
+// Two quads side by side (x in [0, 0.02]) stretched uniformly: node 4 is pinched.
+static Body pinched_pair(double k, double k_back) { return pinched_row(2, k, k_back, 0, 0.02); }
 
-TEST(NodalFracture, PinchedNodeHoldsWhileItsSidesPressAndSeparatesInTension)
+// A joint has no material area: like a contact it carries compression, and of tension only what
+// the material across its opened facets could carry (none once it has failed completely).
+TEST(NodalFracture, PinchedNodeHoldsWhileItsSidesPressOrItsMaterialHoldsAndGoesAcrossFailure)
 {
   // Squeezed (-3 f_t / E: intact, the quads pressing on each other through the node), the
-  // pinched node is kept (one fragment). Stretched below the peak (0.5 f_t / E: intact, pulling
-  // on each other) or past it (3 f_t / E: both softening), it is separated into two nodes,
-  // logged with a zero normal, and the pair falls in two fragments of equal mass.
+  // pinched node is kept (one fragment). Stretched below the peak (0.5 f_t / E: intact) or past
+  // it (3 f_t / E: both softening), the material across the opened edge could still carry f_t
+  // over it: kept too.
   const double eps_t = 3e6 / 3e10;
   double n[3];
-  Body squeezed = pinched_pair(-3 * eps_t, -3 * eps_t);
-  ASSERT_TRUE(squeezed.plan_separation(4).splittable());
-  EXPECT_EQ(squeezed.element_failure(0, n), 0.0);
-  EXPECT_TRUE(insert_cracks(squeezed, {}, 0.0).empty());
-  EXPECT_EQ(fragment_masses(squeezed).size(), 1u);
-
-  Body stretched = pinched_pair(0.5 * eps_t, 0.5 * eps_t);
-  EXPECT_EQ(stretched.element_failure(0, n), 0.0);
-  expect_separated(stretched);
-
-  Body softening = pinched_pair(3 * eps_t, 3 * eps_t);
-  EXPECT_GT(softening.element_failure(0, n), 0.0);
-  EXPECT_LT(softening.element_failure(0, n), 1.0);
-  expect_separated(softening);
+  for (const double k : {-3 * eps_t, 0.5 * eps_t, 3 * eps_t}) {
+    Body pair = pinched_pair(k, k);
+    ASSERT_TRUE(pair.plan_separation(4).splittable());
+    EXPECT_LT(pair.element_failure(0, n), 1.0);
+    EXPECT_TRUE(insert_cracks(pair, {}, 0.0).empty()) << "strain " << k / eps_t << " f_t / E";
+    EXPECT_EQ(fragment_masses(pair).size(), 1u);
+  }
+  // Four quads whose middle two are stretched until they fail completely (100 f_t / E, past the
+  // softening law's end 2 G_f / (f_t h) = 67 f_t / E) while the outer two move rigidly: the
+  // node joins two halves of one failed and one intact quad each across failed material, so it
+  // is separated (logged with a zero normal) and the row falls in two of equal mass.
+  Body row = pinched_row(4, 100 * eps_t, 100 * eps_t, 0.01, 0.03);
+  EXPECT_EQ(row.element_failure(1, n), 1.0);
+  EXPECT_EQ(row.element_failure(0, n), 0.0);
+  const std::vector<SplitEvent> events = insert_cracks(row, {}, 0.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].node, 7);
+  EXPECT_EQ(events[0].normal[0], 0.0);
+  const std::vector<double> m = fragment_masses(row);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_NEAR(m[0], m[1], 1e-12 * m[0]);
 }
 
 // A node held in x by one group and in y by another reports each component's reaction to the

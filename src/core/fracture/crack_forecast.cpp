@@ -50,9 +50,7 @@ bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureC
 
 bool pinched_crack_node(const Body& whole, const CrackNodes&)
 {
-  for (int v : pinch_candidates(whole)) // the nodes separate_pinched_nodes looks at
-    if (pinch_may_separate(whole, v)) return true;
-  return false;
+  return pinch_may_separate(whole); // the nodes and joints separate_pinched_nodes looks at
 }
 
 } // namespace fracdem

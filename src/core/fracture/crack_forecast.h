@@ -38,10 +38,11 @@ struct FractureCheckRule {
 bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureCheckRule& rule,
                       const std::function<double(int)>& fraction = nullptr);
 
-// Whether a pinched node that the check's separation looks at (pinch_candidates) may be taken
-// apart without a topology change first (pinch_may_separate: a split one, or a never-split last
-// bond that waits on its joint's compression). Otherwise it changes only with the topology (a
-// check's changes, an erosion).
+// Whether a pinched node that the check's separation looks at may be taken apart without a
+// topology change first (pinch_may_separate: a split one whose star holds pieces of two groups,
+// or the joints between two groups that are their last bond, waiting on their force).
+// Otherwise it changes only with the topology (a check's changes, an erosion) or when a piece
+// turns to debris (its last element fails).
 bool pinched_crack_node(const Body& whole, const CrackNodes& nodes);
 
 } // namespace fracdem

@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
 #include <utility>
 
 namespace fracdem
@@ -283,17 +286,6 @@ double joint_compression(const Body& body, const SplitPlan& plan)
   return c;
 }
 
-// A pinched node that was never split (a surface node at a crack's mouth, a node between two
-// cracks) joins the elements on the two sides of each facet a crack opened through it. Such a
-// joint has no material area: like a contact it transmits compression but no tension (the
-// material there has cracked). So it waits while the two sides press on each other through it
-// (joint_compression > 0: the compression zone that a beam's halves hinge on; without contact
-// they would pass through each other) and goes once it is in tension or unloaded.
-bool separation_held(const Body& body, const SplitPlan& plan)
-{
-  return joint_compression(body, plan) > 0;
-}
-
 // Walks the elements side s (1: plan.side_a, 2: plan.side_b) stays joined to once plan.node is
 // split (across plan.node only within the side). Returns 1 when the walk reaches the other side
 // (the separation frees no piece), 2 when the side is a piece of completely failed elements
@@ -332,16 +324,6 @@ int walk_side(const Body& body, const SplitPlan& plan, char s, bool stop_at_inta
   return failed_only ? 2 : 0;
 }
 
-// A never-split pinched node is separated only where it is the last bond between two pieces
-// (they touch nowhere else: several pinched nodes that hold the same two pieces wait for each
-// other, as crack points do) and neither piece is a chip of completely failed material (a
-// sliver of the band between two cracks: it carries nothing and would fly off).
-bool frees_whole_pieces(const Body& body, const SplitPlan& plan)
-{
-  const int b = walk_side(body, plan, 2, false);
-  return b == 0 && walk_side(body, plan, 1, true) != 2;
-}
-
 // A split that would cut loose a piece of completely failed elements (a chip of the band, or a
 // failed min_size piece of a cut element: it carries nothing and would fly off) waits.
 bool cuts_loose_chip(const Body& body, const SplitPlan& plan,
@@ -351,31 +333,323 @@ bool cuts_loose_chip(const Body& body, const SplitPlan& plan,
          walk_side(body, plan, 1, true, whole_star) == 2;
 }
 
-// A node whose element star fell into pieces that touch only at the node (cracks on several
-// sides of it) is split into one node per piece (logged with a zero normal): fragments are
-// never held together by a single node. Split nodes (copies, and the nodes split in this pass)
-// are separated at once. Any other node of an element with a split node can be pinched too
-// (a surface node at a crack's mouth, one between two cracks): those go only as the last bond
-// between two whole pieces (frees_whole_pieces) whose joint is not in compression
-// (separation_held). Candidates go in ascending order (the same decisions on every
-// replica); copies are appended, so a star of three pieces is taken apart in two passes.
-void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
+// Face-connected pieces of the body (active elements joined through shared facets), one id per
+// element (-1 inactive), numbered in order of their lowest element. Returns the count.
+int face_pieces(const Body& body, std::vector<int>& piece)
 {
-  std::vector<char> split(body.num_nodes(), 0);
-  for (const SplitEvent& ev : events)
-    split[ev.node] = 1;
-  std::vector<int> todo = pinch_candidates(body); // the nodes split here have copies now
-  for (size_t k = 0; k < todo.size(); ++k) {
-    const int v = todo[k];
-    const SplitPlan plan = body.plan_separation(v);
-    if (!plan.splittable()) continue;
-    const bool was_split = body.parents()[v] >= 0 || split[v]; // copies appended are split
-    if (!was_split && (!frees_whole_pieces(body, plan) || separation_held(body, plan))) continue;
-    SplitEvent ev{v, -1, {0, 0, 0}, static_cast<int>(plan.side_b.size())};
+  const Mesh& mesh = body.mesh();
+  piece.assign(mesh.num_elems(), -1);
+  int count = 0;
+  std::vector<int> queue;
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    if (!mesh.active[e] || piece[e] >= 0) continue;
+    piece[e] = count;
+    queue.assign(1, e);
+    for (size_t h = 0; h < queue.size(); ++h)
+      for (int a = 0; a < nodes_per_elem(mesh.etype[queue[h]]); ++a) {
+        const int w = mesh.conn[queue[h]][a];
+        for (const int* f = body.stars().begin(w); f != body.stars().end(w); ++f)
+          if (piece[*f] < 0 && shares_face(mesh, queue[h], *f)) {
+            piece[*f] = count;
+            queue.push_back(*f);
+          }
+      }
+    ++count;
+  }
+  return count;
+}
+
+// The distinct values of key[e] over node w's star, ascending.
+std::vector<int> star_keys(const Body& body, int w, const std::vector<int>& key)
+{
+  std::vector<int> out;
+  for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
+    out.push_back(key[*e]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Debris owners, one round: each piece without a group yet (owner < 0) that touches a piece with
+// one takes the group it shares most nodes with (lowest among equals), as the groups stood at the
+// start of the round. Returns whether any piece was placed.
+bool place_debris(const Body& body, const std::vector<int>& piece, std::vector<int>& owner)
+{
+  std::map<std::pair<int, int>, int> shared; // (debris piece, group) -> nodes they share
+  for (int w = 0; w < body.num_nodes(); ++w) {
+    const std::vector<int> pieces = star_keys(body, w, piece);
+    std::vector<int> groups;
+    for (int p : pieces)
+      if (owner[p] >= 0) groups.push_back(owner[p]);
+    std::sort(groups.begin(), groups.end());
+    groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+    for (int d : pieces)
+      if (owner[d] < 0)
+        for (int g : groups)
+          ++shared[{d, g}];
+  }
+  std::vector<int> best(owner.size(), 0), placed(owner);
+  for (const auto& entry : shared) { // ascending (piece, group): the lowest group wins ties
+    const int d = entry.first.first;
+    if (entry.second <= best[d]) continue;
+    best[d] = entry.second;
+    placed[d] = entry.first.second;
+  }
+  const bool any = placed != owner;
+  owner = placed;
+  return any;
+}
+
+// Debris is a piece whose elements have all failed, or one smaller than kDebrisSize mesh
+// elements and than kDebrisShare of the body (a piece of a cut element left between two cracks:
+// the material around it failed; the share keeps a body of a few elements out).
+constexpr double kDebrisSize = 2.0, kDebrisShare = 0.01;
+
+// The groups the separation of never-split pinched nodes judges a body's pieces by, per element
+// (-1 inactive): each face-connected piece is a group, but debris (a chip of the band, pieces of
+// cut elements inside a rough crack) joins the group of the neighbouring piece it shares most
+// nodes with, so it stays with that side. piece: per element, its face-connected piece
+// (face_pieces); whole: per piece, whether it is no debris (a group is named by its owner piece;
+// one that is not whole is a chip that touches debris only).
+std::vector<int> pinch_groups(const Body& body, std::vector<int>& piece, std::vector<char>& whole)
+{
+  const int count = face_pieces(body, piece);
+  std::vector<char> failed(count, 1);
+  std::vector<double> size(count, 0.0);
+  double n[3];
+  for (int e = 0; e < body.mesh().num_elems(); ++e)
+    if (piece[e] >= 0) {
+      size[piece[e]] += body.piece_fraction(e);
+      if (failed[piece[e]] && body.element_failure(e, n) < 1.0) failed[piece[e]] = 0;
+    }
+  const double small =
+      std::min(kDebrisSize, kDebrisShare * std::accumulate(size.begin(), size.end(), 0.0));
+  std::vector<int> owner(count);
+  whole.assign(count, 0);
+  for (int p = 0; p < count; ++p) {
+    whole[p] = !failed[p] && size[p] >= small;
+    owner[p] = whole[p] ? p : -1; // debris waits for a neighbour's group
+  }
+  while (place_debris(body, piece, owner)) {
+  }
+  std::vector<int> group(piece.size(), -1);
+  for (size_t e = 0; e < piece.size(); ++e)
+    if (piece[e] >= 0) group[e] = owner[piece[e]] >= 0 ? owner[piece[e]] : piece[e];
+  return group;
+}
+
+// The plan that takes the elements of group gb off node w, away from those of group ga (both
+// lists from w's star, sorted).
+SplitPlan group_plan(const Body& body, int w, const std::vector<int>& group, int ga, int gb)
+{
+  SplitPlan plan;
+  plan.node = w;
+  for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
+    if (group[*e] == ga)
+      plan.side_a.push_back(*e);
+    else if (group[*e] == gb)
+      plan.side_b.push_back(*e);
+  return plan;
+}
+
+// Area of facet f through node v in the current configuration (2D: edge length times thickness).
+double facet_area(const Body& body, int v, const FacetAt& f)
+{
+  const double* x = body.positions().data();
+  double u[3], w[3];
+  for (int d = 0; d < 3; ++d)
+    u[d] = x[3 * f.other[0] + d] - x[3 * v + d];
+  if (f.other[1] < 0)
+    return std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) * body.material().thickness;
+  for (int d = 0; d < 3; ++d)
+    w[d] = x[3 * f.other[1] + d] - x[3 * v + d];
+  const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                       u[0] * w[1] - u[1] * w[0]};
+  return 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
+// The tension that the material across the facets a crack opened between the two sides of a
+// plan (as joint_direction pairs them) could carry at the plan's node: f_t times each facet's
+// area per facet node, where neither element beside the facet has failed completely (none
+// across failed material). The beam's hinge (docs/fracture.md) pulls with up to 0.55 of this
+// and holds; the joints of a crack through failed material carry nothing.
+double opened_facet_strength(const Body& body, const SplitPlan& plan)
+{
+  std::vector<FacetAt> fa, fb;
+  double strength = 0, n[3];
+  const double per_node = body.material().ft / body.mesh().dim; // facet nodes: 2 in 2D, 3 in 3D
+  for (int a : plan.side_a) {
+    facets_at(body, a, plan.node, fa);
+    for (int b : plan.side_b) {
+      facets_at(body, b, plan.node, fb);
+      if (body.element_failure(a, n) >= 1.0 || body.element_failure(b, n) >= 1.0) continue;
+      for (const FacetAt& f : fa)
+        for (const FacetAt& g : fb)
+          if (f.root_key == g.root_key)
+            strength += per_node * facet_area(body, plan.node, f);
+    }
+  }
+  return strength;
+}
+
+// The joints of a body: per pair of groups (lower first), the nodes whose stars hold both.
+using Joints = std::map<std::pair<int, int>, std::vector<int>>;
+
+Joints group_joints(const Body& body, const std::vector<int>& group)
+{
+  Joints joints;
+  for (int w = 0; w < body.num_nodes(); ++w) {
+    const std::vector<int> groups = star_keys(body, w, group);
+    for (size_t i = 0; i < groups.size(); ++i)
+      for (size_t j = i + 1; j < groups.size(); ++j)
+        joints[{groups[i], groups[j]}].push_back(w);
+  }
+  return joints;
+}
+
+// Whether the groups of pair touch nowhere but at its joints (directly or through other groups).
+bool last_bond(const Joints& joints, std::pair<int, int> pair)
+{
+  std::vector<int> reached(1, pair.first);
+  for (size_t h = 0; h < reached.size(); ++h)
+    for (const auto& j : joints) {
+      if (j.first == pair) continue;
+      const int g = reached[h];
+      const int other = j.first.first == g    ? j.first.second
+                        : j.first.second == g ? j.first.first
+                                              : -1;
+      if (other == pair.second) return false;
+      if (other < 0 || std::find(reached.begin(), reached.end(), other) != reached.end()) continue;
+      reached.push_back(other);
+    }
+  return true;
+}
+
+// A joint has no material area: like a contact it carries compression, and of tension only
+// what the material across the facets opened through it could carry (opened_facet_strength).
+// The joints between two groups are one bond: they go together once the sum of their
+// compressions (joint_compression) falls below minus the sum of their strengths.
+bool joints_let_go(const Body& body, const std::vector<int>& group, std::pair<int, int> pair,
+                   const std::vector<int>& nodes)
+{
+  double compression = 0, strength = 0;
+  for (int w : nodes) {
+    const SplitPlan plan = group_plan(body, w, group, pair.first, pair.second);
+    compression += joint_compression(body, plan);
+    strength += opened_facet_strength(body, plan);
+  }
+  return compression <= -strength;
+}
+
+// Whether the joints of a pair of groups are the last bond between them (last_bond) and neither
+// group is a chip (debris that touches debris only): then they wait on their force alone
+// (joints_let_go).
+bool bond_may_part(const std::vector<char>& whole, const Joints& joints, std::pair<int, int> pair)
+{
+  return whole[pair.first] && whole[pair.second] && last_bond(joints, pair);
+}
+
+// The pairs of groups whose joints go at this check.
+std::set<std::pair<int, int>> parting_pairs(const Body& body, const std::vector<int>& group,
+                                            const std::vector<char>& whole, const Joints& joints)
+{
+  std::set<std::pair<int, int>> parting;
+  for (const auto& j : joints)
+    if (bond_may_part(whole, joints, j.first) && joints_let_go(body, group, j.first, j.second))
+      parting.insert(j.first);
+  return parting;
+}
+
+// Splits node w into one node per class of its star's elements (class_of), logged with a zero
+// normal; the class with most elements (lowest among equals) keeps w.
+void part_node(Body& body, int w, const std::function<int(int)>& class_of,
+               std::vector<SplitEvent>& events)
+{
+  std::map<int, int> size;
+  for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
+    ++size[class_of(*e)];
+  if (size.size() < 2) return;
+  int keep = size.begin()->first;
+  for (const auto& c : size)
+    if (c.second > size[keep]) keep = c.first;
+  for (const auto& c : size) {
+    if (c.first == keep) continue;
+    SplitPlan plan;
+    plan.node = w;
+    for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
+      (class_of(*e) == c.first ? plan.side_b : plan.side_a).push_back(*e);
+    SplitEvent ev{w, -1, {0, 0, 0}, static_cast<int>(plan.side_b.size())};
     ev.copy = body.split_node(plan);
-    todo.push_back(ev.copy);
     events.push_back(ev);
   }
+}
+
+// The classes of node w's star groups that stay joined (pairs not parting), each named by its
+// lowest group.
+std::map<int, int> joined_classes(const Body& body, int w, const std::vector<int>& group,
+                                  const std::set<std::pair<int, int>>& parting)
+{
+  const std::vector<int> groups = star_keys(body, w, group);
+  std::map<int, int> cls;
+  for (int g : groups)
+    cls[g] = g;
+  for (size_t i = 0; i < groups.size(); ++i) // a handful of groups per star
+    for (size_t j = i + 1; j < groups.size(); ++j)
+      if (!parting.count({groups[i], groups[j]})) {
+        const int from = cls[groups[j]], to = cls[groups[i]];
+        for (auto& c : cls)
+          if (c.second == from) c.second = to;
+      }
+  return cls;
+}
+
+// Fragments are never held together by a single node whose star fell into pieces that touch
+// only at it, once it is split (a split node or its copy: cracks on several sides of it): it is
+// split into one node per face-connected piece at once, but debris stays with the group that
+// owns it (pinch_groups: no chip is cut loose). The nodes that still join groups (never split:
+// a surface node at a crack's mouth, one between two cracks) are joints without material area:
+// the joints between two groups go together, as the last bond between them, where neither is
+// a chip, once they pull the groups apart with more than the unfailed material across them
+// could carry (parting_pairs). Ascending order: the same decisions on every replica. Parting a
+// node cuts no facet, so the pieces and groups stay those of the start of the pass.
+void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
+{
+  const std::vector<int> candidates = pinch_candidates(body);
+  if (candidates.empty()) return; // no crack: no piece touches another at a node only
+  std::vector<char> split(body.num_nodes(), 0), whole;
+  for (const SplitEvent& ev : events)
+    split[ev.node] = 1;
+  std::vector<int> piece;
+  const std::vector<int> group = pinch_groups(body, piece, whole);
+  const auto piece_or_owner = [&](int e) { return whole[piece[e]] ? piece[e] : group[e]; };
+  for (int v : candidates)
+    if (body.parents()[v] >= 0 || split[v]) part_node(body, v, piece_or_owner, events);
+  const Joints joints = group_joints(body, group);
+  const std::set<std::pair<int, int>> parting = parting_pairs(body, group, whole, joints);
+  std::set<int> nodes;
+  for (const auto& pair : parting)
+    nodes.insert(joints.at(pair).begin(), joints.at(pair).end());
+  for (int w : nodes) {
+    const std::map<int, int> cls = joined_classes(body, w, group, parting);
+    part_node(body, w, [&](int e) { return cls.at(group[e]); }, events);
+  }
+}
+
+// Whether a cut would split a quad4 that has failed completely: both pieces keep its crack
+// strain, which their re-interpolated displacement (linear in the tri3 piece) does not fit, so
+// the tri3 piece is pressed elastically (the free quad bar of test_fracture_quad_cut: -71 MPa,
+// 0.107 J of strain energy out of nothing). Such a cut is not made; the split opens along the
+// element boundaries.
+bool cut_splits_failed_quad(const Body& body, const ElementCut& cut)
+{
+  const int* w_begin = body.stars().begin(cut.w);
+  const int* w_end = body.stars().end(cut.w);
+  double n[3];
+  for (const int* e = body.stars().begin(cut.u); e != body.stars().end(cut.u); ++e)
+    if (body.mesh().etype[*e] == ElemType::Quad4 && body.element_failure(*e, n) >= 1.0 &&
+        std::find(w_begin, w_end, *e) != w_end)
+      return true;
+  return false;
 }
 
 // Cuts through the elements of v's star that the failure plane crosses (each cut adds a node,
@@ -389,7 +663,7 @@ void cut_star(Body& body, int v, const double n[3], double min_size, std::vector
     const ElementCut cut =
         find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n, min_size,
                          [&body](int e) { return body.piece_fraction(e); });
-    if (!cut.found()) return;
+    if (!cut.found() || cut_splits_failed_quad(body, cut)) return;
     CutEvent ev{v, cut.elem, cut.u, cut.w, cut.t, -1, {}};
     std::vector<int> added;
     ev.new_node = body.bisect_edge(cut.u, cut.w, cut.t, &added, cut.joins);
@@ -429,10 +703,24 @@ std::vector<int> pinch_candidates(const Body& body)
   return out;
 }
 
-bool pinch_may_separate(const Body& body, int v)
+bool pinch_may_separate(const Body& body)
 {
-  const SplitPlan plan = body.plan_separation(v);
-  return plan.splittable() && (body.parents()[v] >= 0 || frees_whole_pieces(body, plan));
+  const std::vector<int> candidates = pinch_candidates(body);
+  if (candidates.empty()) return false;
+  std::vector<int> piece;
+  std::vector<char> whole;
+  const std::vector<int> group = pinch_groups(body, piece, whole);
+  for (int v : candidates) // a split node parts at once (separate_pinched_nodes)
+    if (body.parents()[v] >= 0) {
+      std::set<int> classes;
+      for (const int* e = body.stars().begin(v); e != body.stars().end(v); ++e)
+        classes.insert(whole[piece[*e]] ? piece[*e] : group[*e]);
+      if (classes.size() > 1) return true;
+    }
+  const Joints joints = group_joints(body, group);
+  for (const auto& j : joints) // waits on its joints' force only
+    if (bond_may_part(whole, joints, j.first)) return true;
+  return false;
 }
 
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,

@@ -85,16 +85,19 @@ bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_
 // from).
 std::vector<char> split_nodes(const Body& body);
 
-// The nodes the separation of pinched nodes looks at (at the end of insert_cracks), ascending:
-// the split nodes and every node of an element around one: a surface node at a crack's mouth,
-// or one between two cracks, can be pinched without being split.
+// The split nodes and every node of an element around one, ascending: a surface node at a
+// crack's mouth, or one between two cracks, can be pinched without being split. The separation
+// at the end of insert_cracks parts the split ones among them at once and judges every node
+// that joins two groups of pieces; with none (no crack yet) it does nothing.
 std::vector<int> pinch_candidates(const Body& body);
 
-// Whether the separation may take pinched node v apart at a later check without a topology
-// change first: a split node at once, a never-split one only as the last bond between two whole
-// pieces (which waits on its joint's compression, a state that changes from step to step). False
-// for a node whose star is whole, or one that is no last bond (held until the topology changes).
-bool pinch_may_separate(const Body& body, int v);
+// Whether the separation may take a pinched node of the body apart at a later check without a
+// topology change first: a split node at once, the joints between two groups (face-connected
+// pieces, debris with the piece that owns it) once they are the last bond between them and no
+// chip, which then waits on their force (a state that changes from step to step). False when
+// every pinched node is held until the topology changes (or a piece turns to debris: its last
+// element fails, which only a check that changes the topology sees).
+bool pinch_may_separate(const Body& body);
 
 // The elements of `failed` that a crack has reached: at least one of their nodes is split (a
 // split node or its copy). `erode_cracked` removes only these: erosion opens the body as a split
