@@ -584,6 +584,41 @@ void part_node(Body& body, int w, const std::function<int(int)>& class_of,
   }
 }
 
+// The classes a split node's star parts into, per star element: the pieces of the star that
+// touch only at the node (joined through facets within the star, as plan_star_separation takes
+// them: a crack through the node separates them even where they meet again beyond the crack's
+// tip), each named by its lowest element, except that a class of debris only (pinch_groups)
+// stays with a class of its owner's piece where the star holds one.
+std::map<int, int> star_classes(const Body& body, int v, const std::vector<int>& piece,
+                                const std::vector<int>& group, const std::vector<char>& whole)
+{
+  const std::vector<int> star(body.stars().begin(v), body.stars().end(v));
+  std::map<int, int> cls;
+  for (int e : star)
+    cls[e] = e;
+  const auto merge = [&cls](int from, int to) {
+    for (auto& c : cls)
+      if (c.second == from) c.second = to;
+  };
+  for (size_t i = 0; i < star.size(); ++i) // stars are small
+    for (size_t j = i + 1; j < star.size(); ++j)
+      if (cls[star[i]] != cls[star[j]] && shares_face(body.mesh(), star[i], star[j]))
+        merge(std::max(cls[star[i]], cls[star[j]]), std::min(cls[star[i]], cls[star[j]]));
+  for (int e : star) {
+    if (whole[piece[e]]) continue;
+    bool debris_only = true;
+    for (int f : star)
+      if (cls[f] == cls[e] && whole[piece[f]]) debris_only = false;
+    if (!debris_only) continue;
+    for (int f : star)
+      if (whole[piece[f]] && piece[f] == group[e]) {
+        merge(std::max(cls[e], cls[f]), std::min(cls[e], cls[f]));
+        break;
+      }
+  }
+  return cls;
+}
+
 // The classes of node w's star groups that stay joined (pairs not parting), each named by its
 // lowest group.
 std::map<int, int> joined_classes(const Body& body, int w, const std::vector<int>& group,
@@ -621,9 +656,11 @@ void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
     split[ev.node] = 1;
   std::vector<int> piece;
   const std::vector<int> group = pinch_groups(body, piece, whole);
-  const auto piece_or_owner = [&](int e) { return whole[piece[e]] ? piece[e] : group[e]; };
   for (int v : candidates)
-    if (body.parents()[v] >= 0 || split[v]) part_node(body, v, piece_or_owner, events);
+    if (body.parents()[v] >= 0 || split[v]) {
+      const std::map<int, int> cls = star_classes(body, v, piece, group, whole);
+      part_node(body, v, [&](int e) { return cls.at(e); }, events);
+    }
   const Joints joints = group_joints(body, group);
   const std::set<std::pair<int, int>> parting = parting_pairs(body, group, whole, joints);
   std::set<int> nodes;
