@@ -465,6 +465,47 @@ TEST(NodalFracture, PinchedNodeHoldsWhileItsSidesPressOrItsMaterialHoldsAndGoesA
   EXPECT_NEAR(m[0], m[1], 1e-12 * m[0]);
 }
 
+// The face-connected pieces kept between checks (FacePieces: taken again only when the
+// topology changed, and carried over the nodes parted at the end of a check) are those a fresh
+// walk finds, after each split of a crack across a quad strip and after the pinched node of a
+// failed row is parted (brute-force reference).
+static void expect_fresh_pieces(const Body& b, const FacePieces& kept, const char* when)
+{
+  FacePieces fresh;
+  face_pieces(b, fresh);
+  EXPECT_EQ(kept.piece, fresh.piece) << when;
+  EXPECT_EQ(kept.start, fresh.start) << when;
+  EXPECT_EQ(kept.elems, fresh.elems) << when;
+  EXPECT_EQ(kept.size, fresh.size) << when;
+  EXPECT_EQ(kept.joint_nodes, fresh.joint_nodes) << when;
+}
+
+TEST(NodalFracture, FacePiecesKeptBetweenChecksAreAFreshWalks)
+{
+  Body b;
+  b.build(make_rect_mesh(4, 2, 1.0, 0.5, {0, 0}, ElemType::Quad4), steel(), false);
+  FacePieces kept;
+  insert_cracks(b, {}, 0.0, nullptr, &kept);
+  expect_fresh_pieces(b, face_pieces(b, kept), "intact");
+  EXPECT_EQ(kept.count(), 1);
+  const double normal[3] = {1, 0, 0};
+  for (int j = 0; j <= 1; ++j) { // up the column x = 0.5; the top node 12 is pinched, then
+    b.split_node(b.plan_split(2 + 5 * j, normal)); // parted (no tension, no strength: steel)
+    insert_cracks(b, {}, 0.0, nullptr, &kept);
+    expect_fresh_pieces(b, face_pieces(b, kept), "after a split");
+  }
+  EXPECT_EQ(kept.count(), 2);
+  EXPECT_TRUE(kept.joint_nodes.empty());
+  EXPECT_EQ(fragment_masses(b).size(), 2u);
+
+  const double eps_t = 3e6 / 3e10;
+  Body row = pinched_row(4, 100 * eps_t, 100 * eps_t, 0.01, 0.03);
+  FacePieces row_kept;
+  ASSERT_EQ(insert_cracks(row, {}, 0.0, nullptr, &row_kept).size(), 1u); // node 7 parted
+  expect_fresh_pieces(row, face_pieces(row, row_kept), "after parting");
+  EXPECT_TRUE(row_kept.joint_nodes.empty()); // the two halves touch nowhere now
+}
+
 // A node held in x by one group and in y by another reports each component's reaction to the
 // group that holds it (it reported both to the group set last), and a split copy keeps that.
 TEST(Body, ReactionOfEachHeldComponentGoesToItsOwnGroup)

@@ -1155,7 +1155,9 @@ bool BodyDriver::crack_body(std::int64_t step, double dt, std::vector<SplitEvent
   FailureMap& map = failure_map_;
   if (build_failure_map(body_, map) == 0) return false;
   const std::vector<int> points = crack_points(body_.mesh(), map);
-  if (!points.empty()) events = insert_cracks(body_, points, spec_->min_size, &cuts);
+  if (!points.empty())
+    events = insert_cracks(body_, points, spec_->min_size, &cuts,
+                           distributed_ ? nullptr : &face_pieces_);
   const int eroded = erode_collapsed(
       step, dt, spec_->erode_cracked ? elements_on_crack(body_, map.failed) : map.failed);
   return !(events.empty() && cuts.empty() && eroded == 0);
@@ -1559,6 +1561,7 @@ void BodyDriver::write_restart(std::FILE* fp) const
 // files, the parts merged (kPartsRecordVersion), read by a whole body or by this rank's part.
 void BodyDriver::read_body_record(const double* record)
 {
+  face_pieces_ = FacePieces(); // the restored topology's pieces are taken at the next check
   if (record[0] == kPartRecordsVersion) return take_part_records(record);
   if (record[0] == kPartsRecordVersion) {
     unpack_parts_record(record, body_, distributed_ ? &part_ : nullptr,

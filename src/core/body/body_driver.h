@@ -421,6 +421,9 @@ private:
   std::vector<double> restored_pairs_;
   std::function<double(int, int)> friction_;
   FailureMap failure_map_; // kept between checks: no allocation per check
+  // The replicated body's face-connected pieces, kept while its topology is unchanged (a
+  // restored record takes them again; a distributed body's gathered check takes its own).
+  FacePieces face_pieces_;
   int last_fragments_ = 1;
   double gravity_[3] = {0, 0, 0};
   double dt_stable_ = 0;

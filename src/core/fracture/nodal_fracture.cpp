@@ -333,30 +333,51 @@ bool cuts_loose_chip(const Body& body, const SplitPlan& plan,
          walk_side(body, plan, 1, true, whole_star) == 2;
 }
 
-// Face-connected pieces of the body (active elements joined through shared facets), one id per
-// element (-1 inactive), numbered in order of their lowest element. Returns the count.
-int face_pieces(const Body& body, std::vector<int>& piece)
+// Whether node w's star holds elements of two or more face-connected pieces.
+bool joins_pieces(const Body& body, const FacePieces& fp, int w)
+{
+  for (const int* f = body.stars().begin(w); f != body.stars().end(w); ++f)
+    if (fp.piece[*f] != fp.piece[*body.stars().begin(w)]) return true;
+  return false;
+}
+
+// Takes the face-connected pieces of the body afresh (FacePieces, but its key): a walk through
+// shared facets from each element not yet reached, in ascending order.
+void take_face_pieces(const Body& body, FacePieces& fp)
 {
   const Mesh& mesh = body.mesh();
+  std::vector<int>& piece = fp.piece;
   piece.assign(mesh.num_elems(), -1);
-  int count = 0;
-  std::vector<int> queue;
+  fp.start.assign(1, 0);
+  fp.elems.clear();
+  fp.size.clear();
   for (int e = 0; e < mesh.num_elems(); ++e) {
     if (!mesh.active[e] || piece[e] >= 0) continue;
-    piece[e] = count;
-    queue.assign(1, e);
-    for (size_t h = 0; h < queue.size(); ++h)
-      for (int a = 0; a < nodes_per_elem(mesh.etype[queue[h]]); ++a) {
-        const int w = mesh.conn[queue[h]][a];
+    const int id = fp.count();
+    const size_t first = fp.elems.size();
+    piece[e] = id;
+    fp.elems.push_back(e);
+    for (size_t h = first; h < fp.elems.size(); ++h) {
+      const int g = fp.elems[h];
+      for (int a = 0; a < nodes_per_elem(mesh.etype[g]); ++a) {
+        const int w = mesh.conn[g][a];
         for (const int* f = body.stars().begin(w); f != body.stars().end(w); ++f)
-          if (piece[*f] < 0 && shares_face(mesh, queue[h], *f)) {
-            piece[*f] = count;
-            queue.push_back(*f);
+          if (piece[*f] < 0 && shares_face(mesh, g, *f)) {
+            piece[*f] = id;
+            fp.elems.push_back(*f);
           }
       }
-    ++count;
+    }
+    std::sort(fp.elems.begin() + static_cast<long>(first), fp.elems.end());
+    double size = 0;
+    for (size_t h = first; h < fp.elems.size(); ++h)
+      size += body.piece_fraction(fp.elems[h]);
+    fp.size.push_back(size);
+    fp.start.push_back(static_cast<int>(fp.elems.size()));
   }
-  return count;
+  fp.joint_nodes.clear();
+  for (int w = 0; w < body.num_nodes(); ++w)
+    if (joins_pieces(body, fp, w)) fp.joint_nodes.push_back(w);
 }
 
 // The distinct values of key[e] over node w's star, ascending.
@@ -373,11 +394,11 @@ std::vector<int> star_keys(const Body& body, int w, const std::vector<int>& key)
 // Debris owners, one round: each piece without a group yet (owner < 0) that touches a piece with
 // one takes the group it shares most nodes with (lowest among equals), as the groups stood at the
 // start of the round. Returns whether any piece was placed.
-bool place_debris(const Body& body, const std::vector<int>& piece, std::vector<int>& owner)
+bool place_debris(const Body& body, const FacePieces& fp, std::vector<int>& owner)
 {
   std::map<std::pair<int, int>, int> shared; // (debris piece, group) -> nodes they share
-  for (int w = 0; w < body.num_nodes(); ++w) {
-    const std::vector<int> pieces = star_keys(body, w, piece);
+  for (int w : fp.joint_nodes) { // a node inside one piece joins none
+    const std::vector<int> pieces = star_keys(body, w, fp.piece);
     std::vector<int> groups;
     for (int p : pieces)
       if (owner[p] >= 0) groups.push_back(owner[p]);
@@ -408,33 +429,29 @@ constexpr double kDebrisSize = 2.0, kDebrisShare = 0.01;
 // The groups the separation of never-split pinched nodes judges a body's pieces by, per element
 // (-1 inactive): each face-connected piece is a group, but debris (a chip of the band, pieces of
 // cut elements inside a rough crack) joins the group of the neighbouring piece it shares most
-// nodes with, so it stays with that side. piece: per element, its face-connected piece
-// (face_pieces); whole: per piece, whether it is no debris (a group is named by its owner piece;
-// one that is not whole is a chip that touches debris only).
-std::vector<int> pinch_groups(const Body& body, std::vector<int>& piece, std::vector<char>& whole)
+// nodes with, so it stays with that side. fp: the body's face-connected pieces (face_pieces);
+// whole: per piece, whether it is no debris (a group is named by its owner piece; one that is not
+// whole is a chip that touches debris only).
+std::vector<int> pinch_groups(const Body& body, const FacePieces& fp, std::vector<char>& whole)
 {
-  const int count = face_pieces(body, piece);
-  std::vector<char> failed(count, 1);
-  std::vector<double> size(count, 0.0);
-  double n[3];
-  for (int e = 0; e < body.mesh().num_elems(); ++e)
-    if (piece[e] >= 0) {
-      size[piece[e]] += body.piece_fraction(e);
-      if (failed[piece[e]] && body.element_failure(e, n) < 1.0) failed[piece[e]] = 0;
-    }
+  const int count = fp.count();
   const double small =
-      std::min(kDebrisSize, kDebrisShare * std::accumulate(size.begin(), size.end(), 0.0));
+      std::min(kDebrisSize, kDebrisShare * std::accumulate(fp.size.begin(), fp.size.end(), 0.0));
   std::vector<int> owner(count);
   whole.assign(count, 0);
+  double n[3];
   for (int p = 0; p < count; ++p) {
-    whole[p] = !failed[p] && size[p] >= small;
+    bool failed = true; // a large piece meets an intact element early in its list
+    for (int k = fp.start[p]; k < fp.start[p + 1] && failed; ++k)
+      failed = body.element_failure(fp.elems[k], n) >= 1.0;
+    whole[p] = !failed && fp.size[p] >= small;
     owner[p] = whole[p] ? p : -1; // debris waits for a neighbour's group
   }
-  while (place_debris(body, piece, owner)) {
+  while (place_debris(body, fp, owner)) {
   }
-  std::vector<int> group(piece.size(), -1);
-  for (size_t e = 0; e < piece.size(); ++e)
-    if (piece[e] >= 0) group[e] = owner[piece[e]] >= 0 ? owner[piece[e]] : piece[e];
+  std::vector<int> group(fp.piece.size(), -1);
+  for (size_t e = 0; e < fp.piece.size(); ++e)
+    if (fp.piece[e] >= 0) group[e] = owner[fp.piece[e]] >= 0 ? owner[fp.piece[e]] : fp.piece[e];
   return group;
 }
 
@@ -495,10 +512,10 @@ double opened_facet_strength(const Body& body, const SplitPlan& plan)
 // The joints of a body: per pair of groups (lower first), the nodes whose stars hold both.
 using Joints = std::map<std::pair<int, int>, std::vector<int>>;
 
-Joints group_joints(const Body& body, const std::vector<int>& group)
+Joints group_joints(const Body& body, const FacePieces& fp, const std::vector<int>& group)
 {
   Joints joints;
-  for (int w = 0; w < body.num_nodes(); ++w) {
+  for (int w : fp.joint_nodes) { // a node inside one piece is inside one group
     const std::vector<int> groups = star_keys(body, w, group);
     for (size_t i = 0; i < groups.size(); ++i)
       for (size_t j = i + 1; j < groups.size(); ++j)
@@ -638,6 +655,20 @@ std::map<int, int> joined_classes(const Body& body, int w, const std::vector<int
   return cls;
 }
 
+// Parting nodes cuts no facet (the classes parted never share one), so the face-connected pieces
+// stay those taken before; the copies made (from first_copy) join the joint nodes where their
+// star holds two pieces (debris with its owner), and the key follows the new node count.
+void keep_pieces_after_parting(const Body& body, int first_copy, FacePieces& fp)
+{
+  std::vector<int> joints;
+  for (int w : fp.joint_nodes)
+    if (joins_pieces(body, fp, w)) joints.push_back(w);
+  for (int w = first_copy; w < body.num_nodes(); ++w)
+    if (joins_pieces(body, fp, w)) joints.push_back(w);
+  fp.joint_nodes.swap(joints);
+  fp.key[0] = body.num_nodes();
+}
+
 // Fragments are never held together by a single node whose star fell into pieces that touch
 // only at it, once it is split (a split node or its copy: cracks on several sides of it): it is
 // split into one node per face-connected piece at once, but debris stays with the group that
@@ -647,21 +678,23 @@ std::map<int, int> joined_classes(const Body& body, int w, const std::vector<int
 // a chip, once they pull the groups apart with more than the unfailed material across them
 // could carry (parting_pairs). Ascending order: the same decisions on every replica. Parting a
 // node cuts no facet, so the pieces and groups stay those of the start of the pass.
-void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
+void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events, FacePieces& pieces)
 {
   const std::vector<int> candidates = pinch_candidates(body);
   if (candidates.empty()) return; // no crack: no piece touches another at a node only
   std::vector<char> split(body.num_nodes(), 0), whole;
   for (const SplitEvent& ev : events)
     split[ev.node] = 1;
-  std::vector<int> piece;
-  const std::vector<int> group = pinch_groups(body, piece, whole);
+  const FacePieces& fp = face_pieces(body, pieces);
+  const std::vector<int>& piece = fp.piece;
+  const std::vector<int> group = pinch_groups(body, fp, whole);
+  const int first_copy = body.num_nodes();
   for (int v : candidates)
     if (body.parents()[v] >= 0 || split[v]) {
       const std::map<int, int> cls = star_classes(body, v, piece, group, whole);
       part_node(body, v, [&](int e) { return cls.at(e); }, events);
     }
-  const Joints joints = group_joints(body, group);
+  const Joints joints = group_joints(body, fp, group);
   const std::set<std::pair<int, int>> parting = parting_pairs(body, group, whole, joints);
   std::set<int> nodes;
   for (const auto& pair : parting)
@@ -670,6 +703,7 @@ void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events)
     const std::map<int, int> cls = joined_classes(body, w, group, parting);
     part_node(body, w, [&](int e) { return cls.at(group[e]); }, events);
   }
+  keep_pieces_after_parting(body, first_copy, pieces);
 }
 
 // Whether a cut would split a quad4 that has failed completely: both pieces keep its crack
@@ -744,9 +778,11 @@ bool pinch_may_separate(const Body& body)
 {
   const std::vector<int> candidates = pinch_candidates(body);
   if (candidates.empty()) return false;
-  std::vector<int> piece;
+  FacePieces fp;
+  face_pieces(body, fp);
+  const std::vector<int>& piece = fp.piece;
   std::vector<char> whole;
-  const std::vector<int> group = pinch_groups(body, piece, whole);
+  const std::vector<int> group = pinch_groups(body, fp, whole);
   for (int v : candidates) // a split node parts at once (separate_pinched_nodes)
     if (body.parents()[v] >= 0) {
       std::set<int> classes;
@@ -754,14 +790,26 @@ bool pinch_may_separate(const Body& body)
         classes.insert(whole[piece[*e]] ? piece[*e] : group[*e]);
       if (classes.size() > 1) return true;
     }
-  const Joints joints = group_joints(body, group);
+  const Joints joints = group_joints(body, fp, group);
   for (const auto& j : joints) // waits on its joints' force only
     if (bond_may_part(whole, joints, j.first)) return true;
   return false;
 }
 
+const FacePieces& face_pieces(const Body& body, FacePieces& pieces)
+{
+  const Mesh& mesh = body.mesh();
+  const long key[3] = {body.num_nodes(), mesh.num_elems(),
+                       static_cast<long>(std::count(mesh.active.begin(), mesh.active.end(), 1))};
+  if (!std::equal(key, key + 3, pieces.key)) {
+    take_face_pieces(body, pieces);
+    std::copy(key, key + 3, pieces.key);
+  }
+  return pieces;
+}
+
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,
-                                      std::vector<CutEvent>* cuts)
+                                      std::vector<CutEvent>* cuts, FacePieces* pieces)
 {
   // Nodes on a physical crack: split nodes and their copies (and, with cuts, the nodes made on
   // a crack's line by a cut, where the crack goes on).
@@ -794,7 +842,8 @@ std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points
     on_crack.push_back(1);
     events.push_back(ev);
   }
-  separate_pinched_nodes(body, events);
+  FacePieces taken;
+  separate_pinched_nodes(body, events, pieces ? *pieces : taken);
   return events;
 }
 

@@ -60,8 +60,26 @@ struct CutEvent {
 // first cut through elements of its star (fracture/element_cut.h, Body::bisect_edge) where it
 // is better aligned than the element boundaries and both pieces keep at least min_size of the
 // parent's measure; the split then opens along the cut. Cuts go to *cuts (if given).
+// pieces (if given) keeps the body's face-connected pieces between checks (FacePieces).
+struct FacePieces;
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points,
-                                      double min_size = 0, std::vector<CutEvent>* cuts = nullptr);
+                                      double min_size = 0, std::vector<CutEvent>* cuts = nullptr,
+                                      FacePieces* pieces = nullptr);
+
+// The face-connected pieces of a body (active elements joined through shared facets), which the
+// separation of pinched nodes reads at every check once a crack exists: taken again only when
+// the topology changed (a split or a cut adds nodes, an erosion deactivates elements), so a
+// check without a change costs no walk over the body.
+struct FacePieces {
+  long key[3] = {-1, -1, -1};   // nodes, elements, active elements when taken
+  std::vector<int> piece;       // per element, its piece (-1 inactive), numbered by lowest element
+  std::vector<int> start, elems; // the elements of piece p: elems[start[p] .. start[p + 1])
+  std::vector<double> size;      // per piece, its measure in mesh elements (piece_fraction)
+  std::vector<int> joint_nodes;  // the nodes whose stars hold two or more pieces, ascending
+  int count() const { return static_cast<int>(size.size()); }
+};
+// Brings `pieces` up to date with the body's topology and returns it.
+const FacePieces& face_pieces(const Body& body, FacePieces& pieces);
 
 // Whether insert_cracks(body, points, min_size) would change anything at crack point v (cut an
 // element of its star, or split it) when it comes to v with the body as it is now: the same
