@@ -136,12 +136,12 @@ void BodyDriver::distributed_fracture(std::int64_t step, double dt)
       if (body_.mesh().active[e]) flag[0] = 1;
   note_erosion();
   flag[1] = flag[0] && fracture_may_change(dt) ? 1 : 0;
-  if (pinch_left_ || eroded_unchecked_) flag[1] = 1;
+  if (pinch_left_ || eroded_unchecked_ || (joints_left_ && failed_since_check())) flag[1] = 1;
   host_.max_int(flag, 2);
   if (!flag[0] || !flag[1]) return;
   Body whole;
   std::vector<int> owner;
-  int changed[3] = {0, 0, 0}; // topology changed, elements cut, a pinched node left
+  int changed[4] = {0, 0, 0, 0}; // topology changed, elements cut, a pinched node left, joints
   if (gather_whole(whole, owner)) {
     std::vector<SplitEvent> events;
     std::vector<CutEvent> cuts;
@@ -149,12 +149,15 @@ void BodyDriver::distributed_fracture(std::int64_t step, double dt)
     changed[0] = crack_body(step, dt, events, cuts) ? 1 : 0;
     changed[1] = cuts.empty() ? 0 : 1;
     changed[2] = pinched_crack_node(body_, whole_crack_nodes(body_, spec_->min_size)) ? 1 : 0;
+    changed[3] = pieces_touch_at_nodes(body_) ? 1 : 0;
     if (changed[0]) log_cracks(step, events, cuts);
     std::swap(body_, whole);
   }
-  host_.max_int(changed, 3);
+  host_.max_int(changed, 4);
   pinch_left_ = changed[2] != 0;
+  joints_left_ = changed[3] != 0;
   eroded_unchecked_ = false;
+  note_failed_checked();
   if (!changed[0]) {
     inactive_checked_ = inactive_elements(body_.mesh());
     return;
@@ -180,6 +183,27 @@ bool BodyDriver::fracture_may_change(double dt)
   rule.erode_cracked = spec_->erode_cracked;
   rule.dt = dt;
   return check_may_change(body_, part_crack_nodes(part_, topo_, spec_->min_size), rule);
+}
+
+// The part's elements that have failed completely as of the last gathered check (or its new
+// part): a piece of the crack turns to debris only when its last element fails, so while the
+// whole body's pieces touch at nodes a newly failed element gathers the body at the next check.
+void BodyDriver::note_failed_checked()
+{
+  double n[3];
+  failed_checked_.assign(body_.mesh().num_elems(), 0);
+  for (int e = 0; e < body_.mesh().num_elems(); ++e)
+    failed_checked_[e] = body_.element_failure(e, n) >= 1.0 ? 1 : 0;
+}
+
+bool BodyDriver::failed_since_check() const
+{
+  if (!body_.failed_elements()) return true; // the last evaluation saw part of the elements
+  for (int e : *body_.failed_elements())
+    if (body_.mesh().active[e] &&
+        (e >= static_cast<int>(failed_checked_.size()) || !failed_checked_[e]))
+      return true;
+  return false;
 }
 
 // An erosion between checks (section "Bodies that erode") may leave a node on a crack pinched,
@@ -273,6 +297,7 @@ void BodyDriver::adopt_part(const std::vector<double>& message)
   boxes_due_ = true;
   whole_mesh_known_ = false; // the parts changed: rank 0 gathers them again at the next erosion
   inactive_checked_ = inactive_elements(body_.mesh());
+  note_failed_checked();
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0;
   for (const PartNeighbour& nb : part_.neighbours)

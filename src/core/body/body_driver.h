@@ -286,6 +286,8 @@ private:
   void count_whole(const Body& whole);
   bool fracture_may_change(double dt);
   void note_erosion();
+  void note_failed_checked();
+  bool failed_since_check() const;
   void check_balance(std::int64_t step);
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
@@ -333,9 +335,14 @@ private:
   // The forecast of the fracture check (body_breaking.cpp): whether the whole body held a pinched
   // node on a crack after the last gathered check (true until one has been made), this part's
   // eroded elements then (-1: none made) and whether it eroded since (kept across a rebalance).
+  // Whether the whole body's pieces then touched at nodes (joints that a piece turning to debris,
+  // its last element failing, may make a last bond), and per element of this part whether it had
+  // failed (a newly failed element then gathers the body: fracture.md, stage 3).
   bool pinch_left_ = true;
   int inactive_checked_ = -1;
   bool eroded_unchecked_ = false;
+  bool joints_left_ = false;
+  std::vector<char> failed_checked_;
   long long interface_pairs_ = 0;
   // A distributed body that erodes: this part's erosions (global element numbers) in the force
   // evaluations since the last follow-up (fe: their index there), its own stable steps after each

@@ -808,6 +808,12 @@ const FacePieces& face_pieces(const Body& body, FacePieces& pieces)
   return pieces;
 }
 
+bool pieces_touch_at_nodes(const Body& body)
+{
+  FacePieces fp;
+  return !face_pieces(body, fp).joint_nodes.empty();
+}
+
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,
                                       std::vector<CutEvent>* cuts, FacePieces* pieces)
 {

@@ -117,6 +117,11 @@ std::vector<int> pinch_candidates(const Body& body);
 // element fails, which only a check that changes the topology sees).
 bool pinch_may_separate(const Body& body);
 
+// Whether two face-connected pieces of the body touch at a node (a joint, or debris at its
+// owner): only then can a piece turning to debris (its last element failing completely, without
+// a topology change) make the separation part a joint (the forecast of a distributed body).
+bool pieces_touch_at_nodes(const Body& body);
+
 // The elements of `failed` that a crack has reached: at least one of their nodes is split (a
 // split node or its copy). `erode_cracked` removes only these: erosion opens the body as a split
 // does, so it waits for the crack to arrive; one removed while insert_cracks still holds its
