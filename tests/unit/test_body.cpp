@@ -500,12 +500,13 @@ TEST(NodalFracture, FacePiecesKeptBetweenChecksAreAFreshWalks)
 
   const double eps_t = 3e6 / 3e10;
   Body row = pinched_row(4, 100 * eps_t, 100 * eps_t, 0.01, 0.03);
-  EXPECT_TRUE(pieces_touch_at_nodes(row)); // the halves at node 7
+  FacePieces before;
+  EXPECT_TRUE(pieces_touch_at_nodes(row, before)); // the halves at node 7
   FacePieces row_kept;
   ASSERT_EQ(insert_cracks(row, {}, 0.0, nullptr, &row_kept).size(), 1u); // node 7 parted
   expect_fresh_pieces(row, face_pieces(row, row_kept), "after parting");
   EXPECT_TRUE(row_kept.joint_nodes.empty()); // the two halves touch nowhere now
-  EXPECT_FALSE(pieces_touch_at_nodes(row));
+  EXPECT_FALSE(pieces_touch_at_nodes(row, before)); // taken again: a node was parted
 }
 
 // A node held in x by one group and in y by another reports each component's reaction to the

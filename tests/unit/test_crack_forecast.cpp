@@ -224,7 +224,8 @@ TEST_F(CrackForecastTest, PartsNeverMissAChangeOfTheWholeCheck)
   parts_say(whole, quiet);
   EXPECT_FALSE(check_may_change(whole, whole_crack_nodes(whole, 0), rule));
   EXPECT_GT(quiet, 0); // a part with its own crack points only: no gather needed
-  EXPECT_FALSE(pinched_crack_node(whole, whole_crack_nodes(whole, 0)));
+  FacePieces pieces;
+  EXPECT_FALSE(pinch_may_separate(whole, pieces));
 }
 
 // Through the cracking of the torn bar (its splits at steps 50, 160 and 165, cuts with

@@ -148,8 +148,9 @@ void BodyDriver::distributed_fracture(std::int64_t step, double dt)
     std::swap(body_, whole); // the replicated check and its log lines, on the whole body
     changed[0] = crack_body(step, dt, events, cuts) ? 1 : 0;
     changed[1] = cuts.empty() ? 0 : 1;
-    changed[2] = pinched_crack_node(body_, whole_crack_nodes(body_, spec_->min_size)) ? 1 : 0;
-    changed[3] = pieces_touch_at_nodes(body_) ? 1 : 0;
+    FacePieces pieces; // of the whole body, taken once for both answers
+    changed[2] = pinch_may_separate(body_, pieces) ? 1 : 0;
+    changed[3] = pieces_touch_at_nodes(body_, pieces) ? 1 : 0;
     if (changed[0]) log_cracks(step, events, cuts);
     std::swap(body_, whole);
   }

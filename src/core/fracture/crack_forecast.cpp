@@ -48,9 +48,4 @@ bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureC
   return false;
 }
 
-bool pinched_crack_node(const Body& whole, const CrackNodes&)
-{
-  return pinch_may_separate(whole); // the nodes and joints separate_pinched_nodes looks at
-}
-
 } // namespace fracdem

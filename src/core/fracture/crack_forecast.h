@@ -33,16 +33,9 @@ struct FractureCheckRule {
 // (a superset: each crack point decided by crack_point_may_split, a point whose star is not whole
 // here counts as a change, and so does a body whose last evaluation covered part of it); false
 // when none of its elements failed. The check changes nothing at all when this is false for every
-// part and no pinched node is left (pinched_crack_node): every change of the check starts, in
+// part and no pinched node is left (pinch_may_separate): every change of the check starts, in
 // ascending order, from the body as it is. fraction: as crack_point_may_split's.
 bool check_may_change(const Body& body, const CrackNodes& nodes, const FractureCheckRule& rule,
                       const std::function<double(int)>& fraction = nullptr);
-
-// Whether a pinched node that the check's separation looks at may be taken apart without a
-// topology change first (pinch_may_separate: a split one whose star holds pieces of two groups,
-// or the joints between two groups that are their last bond, waiting on their force).
-// Otherwise it changes only with the topology (a check's changes, an erosion) or when a piece
-// turns to debris (its last element fails).
-bool pinched_crack_node(const Body& whole, const CrackNodes& nodes);
 
 } // namespace fracdem

@@ -774,12 +774,11 @@ std::vector<int> pinch_candidates(const Body& body)
   return out;
 }
 
-bool pinch_may_separate(const Body& body)
+bool pinch_may_separate(const Body& body, FacePieces& pieces)
 {
   const std::vector<int> candidates = pinch_candidates(body);
   if (candidates.empty()) return false;
-  FacePieces fp;
-  face_pieces(body, fp);
+  const FacePieces& fp = face_pieces(body, pieces);
   const std::vector<int>& piece = fp.piece;
   std::vector<char> whole;
   const std::vector<int> group = pinch_groups(body, fp, whole);
@@ -808,10 +807,9 @@ const FacePieces& face_pieces(const Body& body, FacePieces& pieces)
   return pieces;
 }
 
-bool pieces_touch_at_nodes(const Body& body)
+bool pieces_touch_at_nodes(const Body& body, FacePieces& pieces)
 {
-  FacePieces fp;
-  return !face_pieces(body, fp).joint_nodes.empty();
+  return !face_pieces(body, pieces).joint_nodes.empty();
 }
 
 std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,

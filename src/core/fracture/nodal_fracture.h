@@ -114,13 +114,15 @@ std::vector<int> pinch_candidates(const Body& body);
 // pieces, debris with the piece that owns it) once they are the last bond between them and no
 // chip, which then waits on their force (a state that changes from step to step). False when
 // every pinched node is held until the topology changes (or a piece turns to debris: its last
-// element fails, which only a check that changes the topology sees).
-bool pinch_may_separate(const Body& body);
+// element fails, which only a check that changes the topology sees). pieces: the body's
+// face-connected pieces, taken here if they are not up to date (face_pieces).
+bool pinch_may_separate(const Body& body, FacePieces& pieces);
 
 // Whether two face-connected pieces of the body touch at a node (a joint, or debris at its
 // owner): only then can a piece turning to debris (its last element failing completely, without
 // a topology change) make the separation part a joint (the forecast of a distributed body).
-bool pieces_touch_at_nodes(const Body& body);
+// pieces: as pinch_may_separate's.
+bool pieces_touch_at_nodes(const Body& body, FacePieces& pieces);
 
 // The elements of `failed` that a crack has reached: at least one of their nodes is split (a
 // split node or its copy). `erode_cracked` removes only these: erosion opens the body as a split
