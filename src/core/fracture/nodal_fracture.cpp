@@ -180,22 +180,65 @@ void facets_at(const Body& body, int e, int v, std::vector<FacetAt>& facets)
                   : std::pair<int, int>(std::minmax(split_root(body, o[0]), split_root(body, o[1])))});
 }
 
-// Unit normal of facet f through v, in the current configuration.
-void facet_normal(const Body& body, int v, const FacetAt& f, double n[3])
+// The edges of facet f from v in the current configuration, and their cross product (2D: the
+// edge and z, about which it turns; the product is then the edge turned, as long as the edge).
+void facet_edges(const Body& body, int v, const FacetAt& f, double a[3], double c[3])
 {
   const double* x = body.positions().data();
-  double a[3], b[3] = {0, 0, 1}; // 2D: the edge turned about z
+  double b[3] = {0, 0, 1};
   for (int d = 0; d < 3; ++d)
     a[d] = x[3 * f.other[0] + d] - x[3 * v + d];
   if (f.other[1] >= 0)
     for (int d = 0; d < 3; ++d)
       b[d] = x[3 * f.other[1] + d] - x[3 * v + d];
-  n[0] = a[1] * b[2] - a[2] * b[1];
-  n[1] = a[2] * b[0] - a[0] * b[2];
-  n[2] = a[0] * b[1] - a[1] * b[0];
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+// Unit normal of facet f through v, in the current configuration.
+void facet_normal(const Body& body, int v, const FacetAt& f, double n[3])
+{
+  double a[3];
+  facet_edges(body, v, f, a, n);
   const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int d = 0; d < 3; ++d)
     n[d] = len > 0 ? n[d] / len : 0;
+}
+
+// Area of facet f through node v in the current configuration (2D: edge length times thickness).
+double facet_area(const Body& body, int v, const FacetAt& f)
+{
+  double a[3], c[3];
+  facet_edges(body, v, f, a, c);
+  if (f.other[1] < 0)
+    return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * body.material().thickness;
+  return 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
+// A facet that a crack opened through a plan's node: shared by element a of side a and element b
+// of side b before it opened (the same split roots); f as element a holds it.
+struct OpenedFacet {
+  int a, b;
+  FacetAt f;
+};
+
+// The facets a crack opened between the two sides of plan, by side-a element, side-b element and
+// facet, in the plan's order.
+std::vector<OpenedFacet> opened_facets(const Body& body, const SplitPlan& plan)
+{
+  std::vector<OpenedFacet> out;
+  std::vector<FacetAt> fa, fb;
+  for (int a : plan.side_a) {
+    facets_at(body, a, plan.node, fa);
+    for (int b : plan.side_b) {
+      facets_at(body, b, plan.node, fb);
+      for (const FacetAt& f : fa)
+        for (const FacetAt& g : fb)
+          if (f.root_key == g.root_key) out.push_back({a, b, f});
+    }
+  }
+  return out;
 }
 
 // Centroid of element e in the current configuration.
@@ -216,25 +259,16 @@ void element_centroid(const Body& body, int e, double c[3])
 // the line between the sides' mean centroids if none. Returns false when both vanish.
 bool joint_direction(const Body& body, const SplitPlan& plan, double dir[3])
 {
-  std::vector<FacetAt> fa, fb;
   dir[0] = dir[1] = dir[2] = 0;
-  for (int a : plan.side_a) {
-    facets_at(body, a, plan.node, fa);
-    for (int b : plan.side_b) {
-      facets_at(body, b, plan.node, fb);
-      for (const FacetAt& f : fa)
-        for (const FacetAt& g : fb) {
-          if (f.root_key != g.root_key) continue;
-          double n[3], ca[3], cb[3];
-          facet_normal(body, plan.node, f, n);
-          element_centroid(body, a, ca);
-          element_centroid(body, b, cb);
-          const double sign =
-              n[0] * (cb[0] - ca[0]) + n[1] * (cb[1] - ca[1]) + n[2] * (cb[2] - ca[2]) < 0 ? -1 : 1;
-          for (int d = 0; d < 3; ++d)
-            dir[d] += sign * n[d];
-        }
-    }
+  for (const OpenedFacet& o : opened_facets(body, plan)) {
+    double n[3], ca[3], cb[3];
+    facet_normal(body, plan.node, o.f, n);
+    element_centroid(body, o.a, ca);
+    element_centroid(body, o.b, cb);
+    const double sign =
+        n[0] * (cb[0] - ca[0]) + n[1] * (cb[1] - ca[1]) + n[2] * (cb[2] - ca[2]) < 0 ? -1 : 1;
+    for (int d = 0; d < 3; ++d)
+      dir[d] += sign * n[d];
   }
   double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
   if (len == 0) {
@@ -469,22 +503,6 @@ SplitPlan group_plan(const Body& body, int w, const std::vector<int>& group, int
   return plan;
 }
 
-// Area of facet f through node v in the current configuration (2D: edge length times thickness).
-double facet_area(const Body& body, int v, const FacetAt& f)
-{
-  const double* x = body.positions().data();
-  double u[3], w[3];
-  for (int d = 0; d < 3; ++d)
-    u[d] = x[3 * f.other[0] + d] - x[3 * v + d];
-  if (f.other[1] < 0)
-    return std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) * body.material().thickness;
-  for (int d = 0; d < 3; ++d)
-    w[d] = x[3 * f.other[1] + d] - x[3 * v + d];
-  const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                       u[0] * w[1] - u[1] * w[0]};
-  return 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-}
-
 // The tension that the material across the facets a crack opened between the two sides of a
 // plan (as joint_direction pairs them) could carry at the plan's node: f_t times each facet's
 // area per facet node, where neither element beside the facet has failed completely (none
@@ -492,20 +510,11 @@ double facet_area(const Body& body, int v, const FacetAt& f)
 // and holds; the joints of a crack through failed material carry nothing.
 double opened_facet_strength(const Body& body, const SplitPlan& plan)
 {
-  std::vector<FacetAt> fa, fb;
   double strength = 0, n[3];
   const double per_node = body.material().ft / body.mesh().dim; // facet nodes: 2 in 2D, 3 in 3D
-  for (int a : plan.side_a) {
-    facets_at(body, a, plan.node, fa);
-    for (int b : plan.side_b) {
-      facets_at(body, b, plan.node, fb);
-      if (body.element_failure(a, n) >= 1.0 || body.element_failure(b, n) >= 1.0) continue;
-      for (const FacetAt& f : fa)
-        for (const FacetAt& g : fb)
-          if (f.root_key == g.root_key)
-            strength += per_node * facet_area(body, plan.node, f);
-    }
-  }
+  for (const OpenedFacet& o : opened_facets(body, plan))
+    if (body.element_failure(o.a, n) < 1.0 && body.element_failure(o.b, n) < 1.0)
+      strength += per_node * facet_area(body, plan.node, o.f);
   return strength;
 }
 
