@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -289,36 +290,60 @@ bool joint_direction(const Body& body, const SplitPlan& plan, double dir[3])
   return true;
 }
 
-// The internal force that the elements `elems` exert on node v (restoring: m a = f), taken
-// again from the positions and the material state on state, a copy of the body's (the history
-// is not advanced), so it reads only what a whole-body gather carries.
-void elements_force_on(const Body& body, const std::vector<int>& elems, int v,
-                       std::vector<double>& state, double out[3])
+// The internal forces that elements exert on the nodes of joints, taken again from the positions
+// and the body's material state (the history is not advanced), so they read only what a
+// whole-body gather carries. One copy of the state and one force array serve all the joints of
+// a check: each evaluated element's state and forces are put back after use.
+class JointForces
 {
-  std::vector<double> f(3 * static_cast<size_t>(body.num_nodes()), 0.0);
-  for (int e : elems)
-    body.space().add_internal_forces(body.mesh(), body.positions().data(), e, e + 1, f.data(),
-                                     nullptr, nullptr, state.empty() ? nullptr : state.data());
-  std::copy(f.begin() + 3 * v, f.begin() + 3 * v + 3, out);
-}
+public:
+  explicit JointForces(const Body& body)
+      : body_(body), state_(body.material_state()),
+        force_(3 * static_cast<size_t>(body.num_nodes()), 0.0)
+  {
+  }
 
-// The compression a pinched node transmits between the two sides of its plan (N; < 0: the
-// sides pull on each other): half the difference of the forces that each side's elements exert
-// on the node, along the direction from side a to side b. Side a pushes the node towards side
-// b when pressed against it, side b back towards side a.
-double joint_compression(const Body& body, const SplitPlan& plan)
-{
-  double dir[3];
-  if (!joint_direction(body, plan, dir)) return 0;
-  std::vector<double> state(body.material_state()); // each element is evaluated once
-  double fa[3], fb[3];
-  elements_force_on(body, plan.side_a, plan.node, state, fa);
-  elements_force_on(body, plan.side_b, plan.node, state, fb);
-  double c = 0;
-  for (int d = 0; d < 3; ++d)
-    c += 0.5 * (fa[d] - fb[d]) * dir[d];
-  return c;
-}
+  // The compression the node of plan transmits between the plan's two sides (N; < 0: the sides
+  // pull on each other): half the difference of the forces that each side's elements exert on
+  // the node, along the direction from side a to side b. Side a pushes the node towards side b
+  // when pressed against it, side b back towards side a.
+  double compression(const SplitPlan& plan)
+  {
+    double dir[3];
+    if (!joint_direction(body_, plan, dir)) return 0;
+    double fa[3], fb[3];
+    force_on(plan.side_a, plan.node, fa);
+    force_on(plan.side_b, plan.node, fb);
+    double c = 0;
+    for (int d = 0; d < 3; ++d)
+      c += 0.5 * (fa[d] - fb[d]) * dir[d];
+    return c;
+  }
+
+private:
+  // The force that the elements `elems` exert on node v (restoring: m a = f).
+  void force_on(const std::vector<int>& elems, int v, double out[3])
+  {
+    const Mesh& mesh = body_.mesh();
+    double* state = state_.empty() ? nullptr : state_.data();
+    for (int e : elems)
+      body_.space().add_internal_forces(mesh, body_.positions().data(), e, e + 1, force_.data(),
+                                        nullptr, nullptr, state);
+    std::copy(force_.begin() + 3 * v, force_.begin() + 3 * v + 3, out);
+    const std::vector<double>& kept = body_.material_state();
+    for (int e : elems) {
+      if (state) {
+        const int from = body_.space().state_offset(e), to = body_.space().state_offset(e + 1);
+        std::copy(kept.begin() + from, kept.begin() + to, state_.begin() + from);
+      }
+      for (int a = 0; a < nodes_per_elem(mesh.etype[e]); ++a)
+        std::fill_n(force_.begin() + 3 * mesh.conn[e][a], 3, 0.0);
+    }
+  }
+
+  const Body& body_;
+  std::vector<double> state_, force_;
+};
 
 // Walks the elements side s (1: plan.side_a, 2: plan.side_b) stays joined to once plan.node is
 // split (across plan.node only within the side). Returns 1 when the walk reaches the other side
@@ -554,14 +579,14 @@ bool last_bond(const Joints& joints, std::pair<int, int> pair)
 // A joint has no material area: like a contact it carries compression, and of tension only
 // what the material across the facets opened through it could carry (opened_facet_strength).
 // The joints between two groups are one bond: they go together once the sum of their
-// compressions (joint_compression) falls below minus the sum of their strengths.
+// compressions (JointForces::compression) falls below minus the sum of their strengths.
 bool joints_let_go(const Body& body, const std::vector<int>& group, std::pair<int, int> pair,
-                   const std::vector<int>& nodes)
+                   const std::vector<int>& nodes, JointForces& forces)
 {
   double compression = 0, strength = 0;
   for (int w : nodes) {
     const SplitPlan plan = group_plan(body, w, group, pair.first, pair.second);
-    compression += joint_compression(body, plan);
+    compression += forces.compression(plan);
     strength += opened_facet_strength(body, plan);
   }
   return compression <= -strength;
@@ -580,9 +605,12 @@ std::set<std::pair<int, int>> parting_pairs(const Body& body, const std::vector<
                                             const std::vector<char>& whole, const Joints& joints)
 {
   std::set<std::pair<int, int>> parting;
-  for (const auto& j : joints)
-    if (bond_may_part(whole, joints, j.first) && joints_let_go(body, group, j.first, j.second))
-      parting.insert(j.first);
+  std::optional<JointForces> forces; // copies the material state: only where a bond may part
+  for (const auto& j : joints) {
+    if (!bond_may_part(whole, joints, j.first)) continue;
+    if (!forces) forces.emplace(body);
+    if (joints_let_go(body, group, j.first, j.second, *forces)) parting.insert(j.first);
+  }
   return parting;
 }
 
