@@ -822,8 +822,8 @@ bool pinch_may_separate(const Body& body, FacePieces& pieces)
   for (int v : candidates) // a split node parts at once (separate_pinched_nodes)
     if (body.parents()[v] >= 0) {
       std::set<int> classes;
-      for (const int* e = body.stars().begin(v); e != body.stars().end(v); ++e)
-        classes.insert(whole[piece[*e]] ? piece[*e] : group[*e]);
+      for (const auto& c : star_classes(body, v, piece, group, whole))
+        classes.insert(c.second);
       if (classes.size() > 1) return true;
     }
   const Joints joints = group_joints(body, fp, group);
