@@ -1,5 +1,5 @@
 // Micro-benchmark of the interaction kernels that make up a particle's work.
-#include "balance/cost_calibration.h"
+#include "contact/cost_calibration.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,20 +10,8 @@
 #include "contact/geometry.h"
 #include "contact/granular_law.h"
 
-namespace fracdem::balance
+namespace fracdem
 {
-
-InteractionCosts unit_costs()
-{
-  return InteractionCosts{};
-}
-
-double particle_cost(const InteractionCosts& c, const ParticleCounts& k)
-{
-  return c.particle + k.walls * c.wall_check + static_cast<double>(k.pair_checks) * c.pair_check +
-         k.sphere_contacts * c.sphere_contact + k.wall_contacts * c.wall_contact +
-         k.facet_checks * c.facet_check + k.facet_contacts * c.facet_contact;
-}
 
 namespace
 {
@@ -108,7 +96,7 @@ template <typename Sweep> double seconds_per_item(Sweep sweep, long items, doubl
 
 } // namespace
 
-InteractionCosts calibrate_costs(double seconds_budget)
+balance::InteractionCosts calibrate_costs(double seconds_budget)
 {
   Scene s = make_scene();
   const ContactMaterial mat =
@@ -218,7 +206,7 @@ InteractionCosts calibrate_costs(double seconds_budget)
       },
       s.n, budget);
 
-  InteractionCosts costs;
+  balance::InteractionCosts costs;
   const double base = t_check > 1e-12 ? t_check : 1e-12;
   auto rel = [&](double t) { return std::max(t / base, 0.05); };
   costs.pair_check = 1.0;
@@ -231,4 +219,4 @@ InteractionCosts calibrate_costs(double seconds_budget)
   return costs;
 }
 
-} // namespace fracdem::balance
+} // namespace fracdem
