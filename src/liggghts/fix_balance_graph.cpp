@@ -10,7 +10,6 @@
 
 #include "atom.h"
 #include "balance/gathered_graph.h"
-#include "balance_exchange.h"
 #include "comm.h"
 #include "comm_graph.h"
 #include "domain.h"
@@ -391,6 +390,15 @@ void FixBalanceGraph::repartition(const Measured& m, const fb::RankWork& work, d
     repartition_particles(m, weight);
 }
 
+// A partitioner failure keeps the current owners, with a warning naming the failure.
+bool FixBalanceGraph::kept_owners(const fb::RootSolve& s) const
+{
+  if (s.failed && comm->me == 0)
+    error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + s.failure)
+                              .c_str());
+  return s.failed;
+}
+
 double FixBalanceGraph::sum_over_ranks(double mine) const
 {
   double sum = 0;
@@ -413,12 +421,7 @@ void FixBalanceGraph::repartition_particles(const Measured& m,
         return strategy_.partition(rg.g, rg.old_owner, comm->nprocs);
       },
       world);
-  if (s.failed) {
-    if (comm->me == 0)
-      error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + s.failure)
-                                .c_str());
-    return;
-  }
+  if (kept_owners(s)) return;
   std::vector<int> dest = fb::scatter_parts(s.result.part, gg, nlocal, world);
   double migrated = 0;
   for (int i = 0; i < nlocal; ++i)
@@ -449,12 +452,7 @@ void FixBalanceGraph::repartition_cells(const Measured& m, const std::vector<std
         return r;
       },
       world);
-  if (s.failed) {
-    if (comm->me == 0)
-      error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + s.failure)
-                                .c_str());
-    return;
-  }
+  if (kept_owners(s)) return;
   MPI_Bcast(owners.data(), static_cast<int>(grid_.total()), MPI_INT, 0, world);
   double migrated = 0;
   for (int i = 0; i < atom->nlocal; ++i)

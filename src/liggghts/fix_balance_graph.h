@@ -14,6 +14,7 @@
 #include "balance/cell_grid.h"
 #include "balance/cost_pricing.h"
 #include "balance/partition_strategy.h"
+#include "balance_exchange.h"
 #include "fix.h"
 
 namespace LAMMPS_NS
@@ -90,6 +91,7 @@ private:
   void repartition_cells(const Measured& m, const std::vector<std::int64_t>& weight);
   void note_layout(const std::string& layout);
   void record_repartition(const fracdem::balance::PartitionResult& r, double migrated);
+  bool kept_owners(const fracdem::balance::RootSolve& s) const;
   double sum_over_ranks(double mine) const;
   // partitioner layers: the axis of the gravity of fix gravity, never cut by a layout (-1: none).
   int gravity_axis() const;

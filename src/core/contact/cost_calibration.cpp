@@ -94,21 +94,23 @@ template <typename Sweep> double seconds_per_item(Sweep sweep, long items, doubl
   return fastest / static_cast<double>(items);
 }
 
-} // namespace
-
-balance::InteractionCosts calibrate_costs(double seconds_budget)
-{
+// The scene, the contact law's material, the time of each measurement and a sink the compiler
+// cannot see through (so that no sweep is optimised away).
+struct Bench {
   Scene s = make_scene();
-  const ContactMaterial mat =
-      mix_materials(5e6, 0.3, 5e6, 0.3, 0.5, 0.5, 1.0, NormalModel::Hertz, true);
-  const double budget = seconds_budget / 7.0;
+  ContactMaterial mat = mix_materials(5e6, 0.3, 5e6, 0.3, 0.5, 0.5, 1.0, NormalModel::Hertz, true);
+  double budget;
   volatile double sink = 0;
-  const long pairs = static_cast<long>(s.n) * s.per;
+};
 
-  // Pair sweep with a contact threshold no pair reaches (checks only; not 0, which the compiler
-  // proves unreachable and deletes the loop), and one every pair
-  // reaches (check + law): the difference is the contact's cost.
-  auto pair_sweep = [&](double radsum) {
+// Seconds per neighbour pair of a sweep whose pairs touch below radsum: with a threshold no pair
+// reaches (not 0, which the compiler proves unreachable and deletes the loop) a pair check, with
+// one every pair reaches a check and the law.
+double pair_seconds(Bench& b, double radsum)
+{
+  Scene& s = b.s;
+  const long pairs = static_cast<long>(s.n) * s.per;
+  const auto sweep = [&] {
     double acc = 0;
     for (int i = 0; i < s.n; ++i) {
       const double* xi = &s.x[3 * i];
@@ -117,94 +119,113 @@ balance::InteractionCosts calibrate_costs(double seconds_budget)
         const double* xj = &s.x[3 * j];
         const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
         if (dx * dx + dy * dy + dz * dz < radsum * radsum)
-          acc += contact_law(mat, xi, xj, radsum, s.shear);
+          acc += contact_law(b.mat, xi, xj, radsum, s.shear);
       }
     }
-    sink = sink + acc;
+    b.sink = b.sink + acc;
   };
-  const double t_check = seconds_per_item([&] { pair_sweep(1e-9); }, pairs, budget);
-  const double t_contact_all = seconds_per_item([&] { pair_sweep(1e9); }, pairs, budget);
+  return seconds_per_item(sweep, pairs, b.budget);
+}
 
-  // Per particle and step, whatever its neighbours: what a step does for a free-flying sphere
-  // (nve/sphere's two half steps of velocity, position and angular velocity, the force and torque
-  // clearing, gravity's force) plus the particle's share of a reneighbouring, amortised: its
-  // binning and the walk over its stencil bins (the distance checks against the particles there
-  // are the pair checks; the walk over bins is paid also where they are empty).
-  const double t_particle = seconds_per_item(
-      [&] {
-        const double dtf = 0.5e-5, dtv = 1e-5, g = -9.81;
-        for (int i = 0; i < s.n; ++i) {
-          const double inv_m = 1.0 / s.m[i], inv_i = 2.5 * inv_m / (s.r[i] * s.r[i]);
-          for (int d = 0; d < 3; ++d) {
-            s.v[3 * i + d] += dtf * s.f[3 * i + d] * inv_m;
-            s.x[3 * i + d] += dtv * s.v[3 * i + d];
-            s.w[3 * i + d] += dtf * s.t[3 * i + d] * inv_i;
-            s.f[3 * i + d] = 0.0, s.t[3 * i + d] = 0.0;
-          }
-          s.f[3 * i + 2] += s.m[i] * g;
-          for (int d = 0; d < 3; ++d) {
-            s.v[3 * i + d] += dtf * s.f[3 * i + d] * inv_m;
-            s.w[3 * i + d] += dtf * s.t[3 * i + d] * inv_i;
-          }
+// Binning and stencil walk of one reneighbouring, spread over kStepsPerReneighbour steps.
+void amortised_binning(Scene& s)
+{
+  for (int i = 0; i < s.n; i += kStepsPerReneighbour) {
+    int cell[3];
+    for (int d = 0; d < 3; ++d)
+      cell[d] = static_cast<int>(s.x[3 * i + d] * 0.25) & (kBins - 1);
+    int found = 0;
+    for (int dz = -2; dz <= 2; ++dz)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int b = (((cell[2] + dz) & (kBins - 1)) * kBins + ((cell[1] + dy) & (kBins - 1))) *
+                            kBins +
+                        ((cell[0] + dx) & (kBins - 1));
+          found += s.binhead[b];
         }
-        // Binning and stencil walk of one reneighbouring, spread over kStepsPerReneighbour steps.
-        for (int i = 0; i < s.n; i += kStepsPerReneighbour) {
-          int cell[3];
-          for (int d = 0; d < 3; ++d)
-            cell[d] = static_cast<int>(s.x[3 * i + d] * 0.25) & (kBins - 1);
-          int found = 0;
-          for (int dz = -2; dz <= 2; ++dz)
-            for (int dy = -2; dy <= 2; ++dy)
-              for (int dx = -2; dx <= 2; ++dx) {
-                const int b =
-                    (((cell[2] + dz) & (kBins - 1)) * kBins + ((cell[1] + dy) & (kBins - 1))) *
-                        kBins +
-                    ((cell[0] + dx) & (kBins - 1));
-                found += s.binhead[b];
-              }
-          s.binhead[(cell[2] * kBins + cell[1]) * kBins + cell[0]] = found & 1;
-        }
-        sink = sink + s.x[7] + s.w[5];
-      },
-      s.n, budget);
+    s.binhead[(cell[2] * kBins + cell[1]) * kBins + cell[0]] = found & 1;
+  }
+}
 
-  // Primitive wall (plane z = c): gap test for all, law for all.
-  auto wall_sweep = [&](double plane) {
+// Per particle and step, whatever its neighbours: what a step does for a free-flying sphere
+// (nve/sphere's two half steps of velocity, position and angular velocity, the force and torque
+// clearing, gravity's force) plus the particle's share of a reneighbouring, amortised: its
+// binning and the walk over its stencil bins (the distance checks against the particles there
+// are the pair checks; the walk over bins is paid also where they are empty).
+double free_particle_seconds(Bench& b)
+{
+  Scene& s = b.s;
+  const auto sweep = [&] {
+    const double dtf = 0.5e-5, dtv = 1e-5, g = -9.81;
+    for (int i = 0; i < s.n; ++i) {
+      const double inv_m = 1.0 / s.m[i], inv_i = 2.5 * inv_m / (s.r[i] * s.r[i]);
+      for (int d = 0; d < 3; ++d) {
+        s.v[3 * i + d] += dtf * s.f[3 * i + d] * inv_m;
+        s.x[3 * i + d] += dtv * s.v[3 * i + d];
+        s.w[3 * i + d] += dtf * s.t[3 * i + d] * inv_i;
+        s.f[3 * i + d] = 0.0, s.t[3 * i + d] = 0.0;
+      }
+      s.f[3 * i + 2] += s.m[i] * g;
+      for (int d = 0; d < 3; ++d) {
+        s.v[3 * i + d] += dtf * s.f[3 * i + d] * inv_m;
+        s.w[3 * i + d] += dtf * s.t[3 * i + d] * inv_i;
+      }
+    }
+    amortised_binning(s);
+    b.sink = b.sink + s.x[7] + s.w[5];
+  };
+  return seconds_per_item(sweep, s.n, b.budget);
+}
+
+// Seconds per particle of a primitive wall (plane z = plane): the gap test for all, and the law
+// for those below the plane.
+double wall_seconds(Bench& b, double plane)
+{
+  Scene& s = b.s;
+  const auto sweep = [&] {
     double acc = 0;
     for (int i = 0; i < s.n; ++i) {
       const double* xi = &s.x[3 * i];
       const double gap = xi[2] - plane - s.r[i];
       if (gap < 0) {
         const double xw[3] = {xi[0], xi[1], plane};
-        acc += contact_law(mat, xi, xw, s.r[i], s.shear);
+        acc += contact_law(b.mat, xi, xw, s.r[i], s.shear);
       }
     }
-    sink = sink + acc;
+    b.sink = b.sink + acc;
   };
-  const double t_wall_check =
-      seconds_per_item([&] { wall_sweep(-1e9); }, s.n, budget); // no particle below
-  const double t_wall_all = seconds_per_item([&] { wall_sweep(1e9); }, s.n, budget);
+  return seconds_per_item(sweep, s.n, b.budget);
+}
 
-  // Facet: closest point on a triangle, then the law.
-  const double a[3] = {0, 0, 0}, b[3] = {16, 0, 0}, c[3] = {0, 16, 0.5};
-  const double t_facet_check = seconds_per_item(
-      [&] {
-        double acc = 0;
-        for (int i = 0; i < s.n; ++i)
-          acc += closest_point_triangle(&s.x[3 * i], a, b, c).dist2;
-        sink = sink + acc;
-      },
-      s.n, budget);
-  const double t_facet_all = seconds_per_item(
-      [&] {
-        double acc = 0;
-        for (int i = 0; i < s.n; ++i) {
-          const ClosestPoint cp = closest_point_triangle(&s.x[3 * i], a, b, c);
-          acc += contact_law(mat, &s.x[3 * i], cp.p, 0.5, s.shear);
-        }
-        sink = sink + acc;
-      },
-      s.n, budget);
+// Seconds per particle of a facet: the closest point on a triangle, and (with_law) the law.
+double facet_seconds(Bench& b, bool with_law)
+{
+  Scene& s = b.s;
+  const double a[3] = {0, 0, 0}, c1[3] = {16, 0, 0}, c2[3] = {0, 16, 0.5};
+  const auto sweep = [&] {
+    double acc = 0;
+    for (int i = 0; i < s.n; ++i) {
+      const ClosestPoint cp = closest_point_triangle(&s.x[3 * i], a, c1, c2);
+      acc += with_law ? contact_law(b.mat, &s.x[3 * i], cp.p, 0.5, s.shear) : cp.dist2;
+    }
+    b.sink = b.sink + acc;
+  };
+  return seconds_per_item(sweep, s.n, b.budget);
+}
+
+} // namespace
+
+balance::InteractionCosts calibrate_costs(double seconds_budget)
+{
+  Bench b;
+  b.budget = seconds_budget / 7.0;
+  const double t_check = pair_seconds(b, 1e-9);
+  const double t_contact_all = pair_seconds(b, 1e9);
+  const double t_particle = free_particle_seconds(b);
+  const double t_wall_check = wall_seconds(b, -1e9); // no particle below
+  const double t_wall_all = wall_seconds(b, 1e9);
+  const double t_facet_check = facet_seconds(b, false);
+  const double t_facet_all = facet_seconds(b, true);
 
   balance::InteractionCosts costs;
   const double base = t_check > 1e-12 ? t_check : 1e-12;
