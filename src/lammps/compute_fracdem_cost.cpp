@@ -17,6 +17,7 @@
 #include "utils.h"
 
 #include "balance/cost_calibration.h"
+#include "io/input_help.h"
 
 #include "fix_fem_body_lammps.h"
 
@@ -254,7 +255,8 @@ ComputeFracdemCost::ComputeFracdemCost(LAMMPS* lmp, int narg, char** arg) : Comp
       every_ = static_cast<bigint>(v);
       iarg += 2;
     } else {
-      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every)", key);
+      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every){}", key,
+                 fracdem::did_you_mean(key, {"cost", "every"}));
     }
   }
 

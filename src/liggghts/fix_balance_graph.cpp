@@ -17,6 +17,7 @@
 #include "balance/graph_partition.h"
 #include "balance/layered_partition.h"
 #include "balance/scotch_partition.h"
+#include "io/input_help.h"
 #include "comm.h"
 #include "comm_graph.h"
 #include "domain.h"
@@ -179,7 +180,9 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, n
       }
     } else {
       fail("unknown keyword '" + key +
-           "' (expected model, cost, partitioner, repartition, cells, insert_region or out)");
+           "' (expected model, cost, partitioner, repartition, cells, insert_region or out)" +
+           fracdem::did_you_mean(key, {"model", "cost", "partitioner", "repartition", "cells",
+                                       "insert_region", "out"}));
     }
   }
 
