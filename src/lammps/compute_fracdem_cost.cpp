@@ -255,8 +255,8 @@ ComputeFracdemCost::ComputeFracdemCost(LAMMPS* lmp, int narg, char** arg) : Comp
       every_ = static_cast<bigint>(v);
       iarg += 2;
     } else {
-      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every){}", key,
-                 fracdem::did_you_mean(key, {"cost", "every"}));
+      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every){}",
+                 key, fracdem::did_you_mean(key, {"cost", "every"}));
     }
   }
 

@@ -86,7 +86,8 @@ std::string spec_error(std::vector<std::string> words)
 TEST(InputHelp, MaterialOptionsComeFromTheTablesSyntax)
 {
   using V = std::vector<std::string>;
-  EXPECT_EQ(material_options(MaterialModel::Rankine), (V{"strength", "fracture_energy", "softening"}));
+  EXPECT_EQ(material_options(MaterialModel::Rankine),
+            (V{"strength", "fracture_energy", "softening"}));
   EXPECT_EQ(material_options(MaterialModel::J2), (V{"yield", "hardening", "exponent"}));
   EXPECT_EQ(material_options(MaterialModel::JohnsonCook), (V{"eps0", "tmelt", "troom", "cp"}));
   EXPECT_EQ(material_options(MaterialModel::ZerilliArmstrong), (V{"eps0", "troom", "cp"}));
@@ -131,8 +132,8 @@ TEST(InputHelp, MisspeltMaterialOptionNamesTheNearest)
             std::string::npos);
   // Closed list (the whole word list is the material's): the unknown word itself.
   Material mat;
-  EXPECT_NE(parse_material_arguments({"j2", "yield", "1", "hardening", "2", "exponnet", "0.5"},
-                                     mat, nullptr)
+  EXPECT_NE(parse_material_arguments({"j2", "yield", "1", "hardening", "2", "exponnet", "0.5"}, mat,
+                                     nullptr)
                 .find("unknown word 'exponnet'; did you mean 'exponent'?"),
             std::string::npos);
 }

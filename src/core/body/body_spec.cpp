@@ -448,8 +448,8 @@ void parse_contact_balance(SpecReader& r, BodySpec& s)
   else
     fail("keyword 'contact_balance' got '" + r.word(1) + "', expected a_priori or a_posteriori");
   std::size_t k = 2;
-  while (r.has(k) && std::count(kContactBalanceOptions.begin(), kContactBalanceOptions.end(),
-                                r.word(k))) {
+  while (r.has(k) &&
+         std::count(kContactBalanceOptions.begin(), kContactBalanceOptions.end(), r.word(k))) {
     const std::string opt = r.word(k);
     if (!r.has(k + 1)) fail("keyword 'contact_balance': '" + opt + "' expects a value");
     if (opt == "thresh") {
@@ -602,8 +602,7 @@ std::string unknown_keyword(const std::string& kw, const std::string& prev, cons
 
 // The keyword at r: the host's own handler, else the table's where the host takes it. `prev`:
 // the keyword before it.
-void parse_keyword(SpecReader& r, BodySpec& spec, const BodySpecHost& host,
-                   const std::string& prev)
+void parse_keyword(SpecReader& r, BodySpec& spec, const BodySpecHost& host, const std::string& prev)
 {
   const std::string& kw = r.keyword();
   auto own = host.own.find(kw);

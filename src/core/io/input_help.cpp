@@ -51,9 +51,9 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 std::string body_units_error(const std::string& host_units)
 {
   if (host_units == kBodyUnits) return "";
-  const std::string given =
-      host_units == "lj" ? "'units lj' (the default of an input without a 'units' command)"
-                         : "'units " + host_units + "'";
+  const std::string given = host_units == "lj"
+                                ? "'units lj' (the default of an input without a 'units' command)"
+                                : "'units " + host_units + "'";
   return std::string("needs 'units ") + kBodyUnits + "' (its mesh, density, youngs, strength and " +
          "other values are read in metres, kg/m^3, Pa, J/m^2), but the input has " + given +
          "; write 'units " + kBodyUnits + "' before the simulation box is created and give " +
