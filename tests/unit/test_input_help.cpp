@@ -136,6 +136,11 @@ TEST(InputHelp, MisspeltMaterialOptionNamesTheNearest)
                                      nullptr)
                 .find("unknown word 'exponnet'; did you mean 'exponent'?"),
             std::string::npos);
+  EXPECT_NE(
+      parse_material_arguments(
+          {"rankine", "strength", "1", "fracture_energy", "2", "softning", "linear"}, mat, nullptr)
+          .find("unknown word 'softning'; did you mean 'softening'?"),
+      std::string::npos);
 }
 
 TEST(InputHelp, BodiesTakeSiUnitsOnly)

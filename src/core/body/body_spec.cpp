@@ -312,13 +312,14 @@ void parse_bulk_viscosity(SpecReader& r, BodySpec& s)
   r.take(3);
 }
 
-// erosion plastic_strain EPS | damage D | min_dt DT (any of them, in any order, on one keyword):
-// the values are checked against the material by check_body_spec (erosion_setup_error).
+// The criteria of `erosion`, each with one value.
 const std::map<std::string, double ErosionCriteria::*> kErosionCriteria = {
     {"plastic_strain", &ErosionCriteria::plastic_strain},
     {"damage", &ErosionCriteria::damage},
     {"min_dt", &ErosionCriteria::min_dt}};
 
+// erosion plastic_strain EPS | damage D | min_dt DT (any of them, in any order, on one keyword):
+// the values are checked against the material by check_body_spec (erosion_setup_error).
 void parse_erosion(SpecReader& r, BodySpec& s)
 {
   int used = 0;
@@ -434,6 +435,7 @@ void parse_contact_penalty(SpecReader& r, BodySpec& s)
   if (s.contact_penalty <= 0) fail("keyword 'contact_penalty' must be > 0");
 }
 
+// The options after `contact_balance MODEL`, each with one value.
 const std::vector<std::string> kContactBalanceOptions = {"thresh", "every", "parts", "file"};
 
 // contact_balance a_priori|a_posteriori [thresh B] [every N] [parts K] [file PATH]

@@ -90,7 +90,7 @@ struct WordReader {
 };
 
 // Where a required option is missing and the list stopped at a word near an option of `model`
-// (a misspelt "fracture_enrgy"): " ('fracture_enrgy': did you mean 'fracture_energy'?)", else "".
+// (a misspelt "fracture_enrgy"): " ('fracture_enrgy'; did you mean 'fracture_energy'?)", else "".
 std::string misspelt_option(const WordReader& r, MaterialModel model)
 {
   if (!r.more()) return "";
@@ -144,7 +144,7 @@ bool parse_rankine(WordReader& r, bool open, Material& mat)
       break;
     } else {
       return r.fail("unknown word '" + kw + "'" +
-                    did_you_mean(kw, {"strength", "fracture_energy", "softening"}));
+                    did_you_mean(kw, material_options(MaterialModel::Rankine)));
     }
   }
   if (!have_ft || !have_gf)
