@@ -19,6 +19,7 @@
 
 #include "balance/cost_model.h"
 #include "balance_exchange.h"
+#include "io/input_help.h"
 
 #include "fix_fem_body_lammps.h"
 
@@ -265,7 +266,8 @@ ComputeFracdemCost::ComputeFracdemCost(LAMMPS* lmp, int narg, char** arg) : Comp
       every_ = static_cast<bigint>(v);
       iarg += 2;
     } else {
-      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every)", key);
+      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every){}",
+                 key, fracdem::did_you_mean(key, {"cost", "every"}));
     }
   }
   // Costs not given: fix balance/graph's calibrated ones (a micro-benchmark of the kernels,

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "io/input_help.h"
+
 namespace fracdem::balance
 {
 
@@ -112,12 +114,14 @@ const Keyword kKeywords[] = {
 const Keyword& find_keyword(const std::string& key)
 {
   std::string names;
+  std::vector<std::string> known;
   const std::size_t n = sizeof kKeywords / sizeof kKeywords[0];
   for (std::size_t k = 0; k < n; ++k) {
     if (key == kKeywords[k].keyword) return kKeywords[k];
     names += std::string(k == 0 ? "" : k + 1 == n ? " or " : ", ") + kKeywords[k].keyword;
+    known.push_back(kKeywords[k].keyword);
   }
-  fail("unknown keyword '" + key + "' (expected " + names + ")");
+  fail("unknown keyword '" + key + "' (expected " + names + ")" + did_you_mean(key, known));
 }
 
 int parse_every(const std::string& word)
