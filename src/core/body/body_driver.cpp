@@ -676,6 +676,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
     body_contact_forces(step, dt, count_work);
   ParticleFacetResult res;
   if (particles) {
+    contact_.set_node_masses(body_.rigid() ? nullptr : body_.masses().data());
     res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
                             body_.velocities().data(), dt, body_.contact_forces());
     warn_history_slots(res);
@@ -873,7 +874,7 @@ double BodyDriver::erosion_loop(double energy, int& first_inverted, int* counts,
 void BodyDriver::after_erosion(std::int64_t step, double dt, const int* counts,
                                const std::vector<int>& batch)
 {
-  rebuild_surfaces();
+  rebuild_surfaces(true);
   print(erosion_line(step, counts, batch));
   dt_stable_ = body_.stable_time_step();
   follow_step_after_erosion(step, dt);
@@ -921,7 +922,7 @@ std::string BodyDriver::erosion_line(std::int64_t step, const int* counts,
 void BodyDriver::erode_inverted(std::int64_t step, int e)
 {
   body_.erode({e}, spec_->erosion.remove_mass);
-  rebuild_surfaces();
+  rebuild_surfaces(true);
   print(inverted_line(step, e));
 }
 
@@ -936,9 +937,11 @@ std::string BodyDriver::inverted_line(std::int64_t step, int e) const
    surfaces and body-body contact
 ------------------------------------------------------------------------- */
 
-// After a topology change: particle contact and the contact between the body's own pieces.
-void BodyDriver::rebuild_surfaces()
+// After a topology change (cracked: faces may be born inside particles): particle contact and the
+// contact between the body's own pieces.
+void BodyDriver::rebuild_surfaces(bool cracked)
 {
+  if (cracked && !distributed_) contact_.expect_births();
   contact_.rebuild_surface(body_.mesh());
   if (spec_->contact_bodies <= 0) return;
   if (distributed_)
@@ -1141,7 +1144,7 @@ void BodyDriver::fracture(std::int64_t step, double dt)
   if (counts[0] != -counts[1] || counts[2] != -counts[3])
     fail("fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
   if (!cuts.empty()) share_element_work();
-  rebuild_surfaces();
+  rebuild_surfaces(true);
   log_cracks(step, events, cuts);
   check_step_after_cracks(step, dt, !cuts.empty());
 }

@@ -226,7 +226,7 @@ private:
   // body's rank warns with its own).
   std::string unresolved_contact_text(std::int64_t step, double speed, double dt_ok) const;
   std::string wide_patch_text(std::int64_t step, double radii) const;
-  void rebuild_surfaces();
+  void rebuild_surfaces(bool cracked = false);
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
   void configure_scene();
   int body_contacts(std::int64_t step, double dt);
