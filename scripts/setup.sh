@@ -22,9 +22,9 @@ if ((${#missing[@]})); then
 fi
 
 PY=${PYTHON:-python3}
-if ! $PY -c "import fracdem, numpy, pandas, matplotlib, pytest, vtk" 2>/dev/null; then
+if ! $PY -c "import fracdem, numpy, pandas, matplotlib, pytest, vtk, gmsh" 2>/dev/null; then
   echo "[setup] installing the fracdem Python package and its dependencies"
-  $PY -m pip install -q --disable-pip-version-check -e "python[vtk]" pytest
+  $PY -m pip install -q --disable-pip-version-check -e "python[vtk,mesh]" pytest
 fi
 
 echo "[setup] building (build/)"

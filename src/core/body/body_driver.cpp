@@ -677,6 +677,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   ParticleFacetResult res;
   if (particles) {
     contact_.set_node_masses(body_.rigid() ? nullptr : body_.masses().data());
+    contact_.set_inelastic_nodes(mark_inelastic_nodes());
     res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
                             body_.velocities().data(), dt, body_.contact_forces());
     warn_history_slots(res);
@@ -936,6 +937,21 @@ std::string BodyDriver::inverted_line(std::int64_t step, int e) const
 /* ----------------------------------------------------------------------
    surfaces and body-body contact
 ------------------------------------------------------------------------- */
+
+// Nodes of elements whose material has begun to fail (damage), for the particle contact's Hertz
+// patch; nullptr while no point of the body is damaged (nothing to look at).
+const std::vector<char>* BodyDriver::mark_inelastic_nodes()
+{
+  if (body_.damaged_points() == 0) return nullptr;
+  const Mesh& mesh = body_.mesh();
+  inelastic_nodes_.assign(mesh.num_nodes(), 0);
+  for (int e = 0; e < mesh.num_elems(); ++e) {
+    if (!mesh.active[e] || !body_.element_damaged(e)) continue;
+    for (int a : mesh.conn[e])
+      if (a >= 0) inelastic_nodes_[a] = 1;
+  }
+  return &inelastic_nodes_;
+}
 
 // After a topology change (cracked: faces may be born inside particles): particle contact and the
 // contact between the body's own pieces.

@@ -227,6 +227,7 @@ private:
   std::string unresolved_contact_text(std::int64_t step, double speed, double dt_ok) const;
   std::string wide_patch_text(std::int64_t step, double radii) const;
   void rebuild_surfaces(bool cracked = false);
+  const std::vector<char>* mark_inelastic_nodes();
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
   void configure_scene();
   int body_contacts(std::int64_t step, double dt);
@@ -428,6 +429,7 @@ private:
   std::vector<double> restored_pairs_;
   std::function<double(int, int)> friction_;
   FailureMap failure_map_; // kept between checks: no allocation per check
+  std::vector<char> inelastic_nodes_; // per node: at a damaged element (mark_inelastic_nodes)
   // The replicated body's face-connected pieces, kept while its topology is unchanged (a
   // restored record takes them again; a distributed body's gathered check takes its own).
   FacePieces face_pieces_;

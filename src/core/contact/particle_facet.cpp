@@ -561,6 +561,20 @@ void ParticleFacetContact::check_time_resolution(const ContactMaterial& mat, con
   res.resolving_dt = std::min(res.resolving_dt, reach / vn);
 }
 
+// Hertz's pressure and the radius from the measured indentation presume an elastic half-space
+// under the contact. Where the body has begun to fail there (a damaged element at a patch node),
+// the indentation is that of a softening or cracking material: taken into the radius, it makes
+// the force grow with the body's displacement apart from the overlap, and spread by Hertz's
+// weights the reaction does work the overlap never stored (a body breaking under spheres made
+// many times their energy so). Such a contact acts at its point, as the law's potential says.
+bool ParticleFacetContact::patch_touches_inelastic() const
+{
+  if (!inelastic_nodes_) return false;
+  for (int v : patch_.nodes)
+    if ((*inelastic_nodes_)[v]) return true;
+  return false;
+}
+
 bool ParticleFacetContact::hertz_contact_patch(const FacetHit& lead, const double* X,
                                                const double* x, ContactInput& in, double radius)
 {
@@ -583,6 +597,7 @@ bool ParticleFacetContact::hertz_contact_patch(const FacetHit& lead, const doubl
     const double reach = 3.6 * std::sqrt(2 * radius * (in.delta + delta_b));
     patch_reach_ = std::max(patch_reach_, reach);
     gather_surface_patch(topology_, x, lead.nodes, lead.nn, lead.cp.p, in.n, reach, patch_);
+    if (patch_touches_inelastic()) return false;
     for (int v : patch_.nodes)
       indentation_disp_[v] = into_body(v);
     delta_b = local_indentation(radius, in.delta, u_c, indentation_disp_, patch_);

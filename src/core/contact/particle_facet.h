@@ -105,6 +105,9 @@ public:
   // works on their reduced mass: the particle's alone would over-damp a light node (a split
   // node's copy, a small fragment) and the explicit step would amplify its motion instead.
   void set_node_masses(const double* mass) { node_mass_ = mass; }
+  // Per node, 1 where an element at it has begun to fail (nullptr: none has): a contact whose
+  // Hertz patch reaches such a node acts at its point (see patch_touches_inelastic).
+  void set_inelastic_nodes(const std::vector<char>* flags) { inelastic_nodes_ = flags; }
   // The next rebuild_surface follows a topology change (a split, an erosion): the faces it finds
   // that were not surface before are born, and their overlaps with particles are discounted.
   void expect_births() { births_expected_ = true; }
@@ -151,6 +154,7 @@ private:
   void mark_born_facets();
   void discount_birth_overlaps(double* hist, int slots, ParticleFacetResult& res);
   double contact_mass(double particle_mass, const FacetHit& lead, bool spread) const;
+  bool patch_touches_inelastic() const;
   bool hertz_contact_patch(const FacetHit& lead, const double* X, const double* x, ContactInput& in,
                            double radius);
 
@@ -167,6 +171,7 @@ private:
   bool hold_history_ = false;
   int nrebuilds_ = 0;
   const double* node_mass_ = nullptr;
+  const std::vector<char>* inelastic_nodes_ = nullptr;
   // Plane and bounding ball of every facet at the last search build, and the largest node
   // displacement since then: gather_hits culls with them before any closest point.
   std::vector<FacetBound> facet_bounds_;
