@@ -524,7 +524,7 @@ void BodyDriver::start_run()
 {
   if (!velocities_applied_ && !restarted_) {
     for (const auto& s : spec_->initial_velocity)
-      body_.set_velocity(body_node_set(body_, *spec_, s.set, "velocity"), s.v);
+      body_.set_velocity(body_node_set(body_, *spec_, s.set, "velocity"), s.v, s.mask);
     body_.impose_velocity_conditions();
   }
   velocities_applied_ = true;
