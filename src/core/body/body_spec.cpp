@@ -120,7 +120,8 @@ void parse_fixed(SpecReader& r, BodySpec& s)
   s.fixed_sets.push_back(f);
 }
 
-// GROUP vx vy vz, each component a number or NULL (LAMMPS convention: not given, v = 0 kept).
+// GROUP vx vy vz, each component a number or NULL (LAMMPS convention: that component is not
+// given, its bit of the mask is cleared).
 NodeVelocitySpec node_velocity(SpecReader& r)
 {
   r.need(4, "GROUP vx vy vz (a component may be NULL)");
