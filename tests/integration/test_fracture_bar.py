@@ -3,7 +3,8 @@ and 3 ranks, with its energy balanced, and a restart taken after cracking contin
 
 Parameters (in.fracture_bar): concrete-like, f_t = 3 MPa, G_f = 100 N/m, section 50 x 50 mm.
 Expected: peak tensile force f_t A = 7.5 kN (Rankine criterion, uniaxial stress); dissipated
-energy G_f A = 0.25 J (crack band: G_f per unit crack area on any mesh), tolerances below.
+energy G_f A = 0.25 J (crack band: G_f per unit crack area on any mesh), tolerances below; the
+same with the bilinear softening law.
 """
 import os
 import re
@@ -18,13 +19,13 @@ FT, GF, AREA = 3e6, 100.0, 0.05 * 0.05
 STEPS, RESTART_AT = 1500, 1300
 
 
-def run_bar(np_, workdir):
+def run_bar(np_, workdir, law="linear", steps=STEPS):
     subprocess.run([sys.executable, "-m", "fracdem.meshgen", "rect", "40", "10", "0.2", "0.05",
                     "-o", os.path.join(workdir, "bar.msh"), "--element", "tri3"],
                    check=True, stdout=subprocess.DEVNULL, env=dict(os.environ, PYTHONPATH=os.path.join(h.ROOT, "python")))
     h.copy_inputs(["in.fracture_bar", "in.fracture_bar_continue"], workdir)
     out = h.run(args.exe, "in.fracture_bar", np_=np_, workdir=workdir,
-                variables={"restart_at": RESTART_AT, "rest": STEPS - RESTART_AT})
+                variables={"restart_at": RESTART_AT, "rest": steps - RESTART_AT, "law": law})
     splits = re.findall(r"step (\d+): crack at node (\d+) -> new node (\d+)", out)
     import pandas as pd
     energy = pd.read_csv(os.path.join(workdir, "energy.csv"))
@@ -57,6 +58,23 @@ for np_ in (2, 3):
     e2 = results[np_][3]
     rel = abs(e2["fracture_energy"].iloc[-1] / dissipated - 1)
     h.check(rel < 1e-9, f"np={np_}: dissipated energy equals np=1 (rel. diff {rel:.1e})")
+
+# Petersson's bilinear softening (the same G_f): the same peak and dissipation bounds, one crack.
+# Its tail (below f_t / 3 out to 3.6 G_f / f_t) is longer than the linear law's 2 G_f / f_t, so
+# the run goes on to 2500 steps.
+_, _, eb = run_bar(1, tempfile.mkdtemp(prefix="fracture_bar_bilinear_"), "bilinear", 2500)
+peak_b, diss_b = eb["reaction_xmax_x"].max(), eb["fracture_energy"].iloc[-1]
+h.check(abs(peak_b / (FT * AREA) - 1) < 0.05,
+        f"bilinear: peak force {peak_b:.1f} N within 5 % of f_t A = {FT * AREA:.1f} N")
+h.check(abs(diss_b / (GF * AREA) - 1) < 0.15,
+        f"bilinear: dissipated {diss_b:.4f} J within 15 % of G_f A = {GF * AREA:.4f} J")
+h.check(eb["fragments"].iloc[-1] == 2 and eb["split_nodes"].iloc[-1] == 11,
+        f"bilinear: two fragments from 11 splits (got {eb['fragments'].iloc[-1]}, "
+        f"{eb['split_nodes'].iloc[-1]})")
+lhs_b = eb["kinetic"] + eb["strain"] + eb["fracture_energy"]
+rhs_b = eb["boundary_work"] + eb["external_work"] + eb["contact_work"]
+worst_b = ((lhs_b - rhs_b).abs() / rhs_b.abs().max()).max()
+h.check(worst_b < 0.02, f"bilinear: energy balance closes within 2 % (worst {worst_b:.2e})")
 
 # Restart after cracking: the continued run reproduces the uninterrupted one.
 for np_ in (1, 2):

@@ -98,6 +98,46 @@ TEST(Body, FixedAndPrescribedNodesFollowTheirConditions)
   EXPECT_NE(b.velocities()[3 * 2], 9.0);                      // free node moved by forces
 }
 
+// A prescribed velocity with a NULL component (mask): the given component moves at its ramped
+// velocity, the NULL one is free (kicked by the force; no reaction for the group) or, where
+// `fixed` holds it, stays held; a later `velocity` with a component left out keeps it.
+TEST(Body, PrescribedVelocityWithAFreeComponent)
+{
+  Body b;
+  b.build(make_rect_mesh(2, 1, 2.0, 1.0, {0, 0}, ElemType::Tri3), steel(), false);
+  const double vp[3] = {0.5, 0, 0}, vi[3] = {0, 3, 0}, vx[3] = {2, 0, 0};
+  b.set_velocity({0, 1, 2, 3, 4, 5}, vi);
+  b.set_velocity({0, 1, 2, 3, 4, 5}, vx, 1); // x only: vy = 3 kept
+  EXPECT_EQ(b.velocities()[3 * 5 + 0], 2.0);
+  EXPECT_EQ(b.velocities()[3 * 5 + 1], 3.0);
+  b.set_fixed({0}, 2, 0);                            // node 0 held in y (group 0)
+  b.set_prescribed_velocity({0, 2}, vp, 4e-6, 1, 1); // x prescribed, ramp 4 steps (group 1)
+  b.impose_velocity_conditions();
+  const double x0[3] = {b.positions()[0], b.positions()[1], b.positions()[6]};
+  const double y2 = b.positions()[7];
+  const double g[3] = {0, -9.81, 0};
+  double rx = 0;
+  for (int s = 0; s < 10; ++s) {
+    b.advance_time(1e-6); // as the driver does: the step's end time, then the drift
+    b.half_kick_drift(1e-6);
+    b.begin_forces();
+    int inv = -1;
+    b.finish_forces(b.add_internal_forces(&inv), g, 1e-6, true);
+    b.half_kick(1e-6);
+    rx = std::max(rx, std::abs(b.reactions()[3]));
+    EXPECT_EQ(b.reactions()[4], 0.0); // group 1 holds no y
+  }
+  // x: the ramp's mid-step velocities 0.5 (k + 0.5) / 4 for the first 4 steps, then 0.5.
+  const double dx = 1e-6 * (0.5 * (0.5 + 1.5 + 2.5 + 3.5) / 4 + 6 * 0.5);
+  EXPECT_NEAR(b.positions()[0], x0[0] + dx, 1e-15);
+  EXPECT_NEAR(b.positions()[6], x0[2] + dx, 1e-15);
+  EXPECT_EQ(b.positions()[1], x0[1]);       // node 0: y held by `fixed`
+  EXPECT_NE(b.positions()[7], y2);           // node 2: y free, moved
+  EXPECT_NE(b.velocities()[3 * 2 + 1], 0.0); // and kicked by the forces and gravity
+  EXPECT_EQ(b.velocities()[3 * 2 + 0], 0.5); // x at its prescribed velocity
+  EXPECT_GT(rx, 0.0);                        // the held x component reports its reaction
+}
+
 class BodySplit : public ::testing::TestWithParam<ElemType>
 {
 };

@@ -136,6 +136,23 @@ TEST(BodySpec, FixedSetsAndReactionGroups)
   EXPECT_EQ(s.initial_velocity[0].set, "all");
   EXPECT_EQ(s.initial_velocity[0].v[1], 2);
   EXPECT_EQ(s.initial_velocity[0].group, -1); // initial velocities have no reaction account
+  EXPECT_EQ(s.initial_velocity[0].mask, 7);
+  EXPECT_EQ(s.prescribed_velocity[0].mask, 7);
+}
+
+// NULL leaves a component out (LAMMPS convention): its bit is cleared, its value stays 0.
+TEST(BodySpec, NullVelocityComponents)
+{
+  const BodySpec s =
+      parse("prescribed_velocity top 0.1 NULL NULL ramp 0.5 velocity all NULL 2 NULL");
+  ASSERT_EQ(s.prescribed_velocity.size(), 1u);
+  EXPECT_EQ(s.prescribed_velocity[0].mask, 1);
+  EXPECT_EQ(s.prescribed_velocity[0].v[0], 0.1);
+  EXPECT_EQ(s.prescribed_velocity[0].v[1], 0.0);
+  EXPECT_EQ(s.prescribed_velocity[0].ramp, 0.5);
+  ASSERT_EQ(s.initial_velocity.size(), 1u);
+  EXPECT_EQ(s.initial_velocity[0].mask, 2);
+  EXPECT_EQ(s.initial_velocity[0].v[1], 2.0);
 }
 
 TEST(BodySpec, TransformsInOrder)
@@ -313,8 +330,9 @@ TEST(BodySpec, MissingValues)
       {"model", "keyword 'model' expects elastic or corotational"},
       {"plane", "keyword 'plane' expects strain, stress or axisymmetric"},
       {"fixed", "keyword 'fixed' expects a mesh physical group name [x] [y] [z]"},
-      {"velocity all 1 2", "keyword 'velocity' expects GROUP vx vy vz"},
-      {"prescribed_velocity", "keyword 'prescribed_velocity' expects GROUP vx vy vz"},
+      {"velocity all 1 2", "keyword 'velocity' expects GROUP vx vy vz (a component may be NULL)"},
+      {"prescribed_velocity",
+       "keyword 'prescribed_velocity' expects GROUP vx vy vz (a component may be NULL)"},
       {"scale", "keyword 'scale' expects a factor"},
       {"move 1 2", "keyword 'move' expects dx dy dz"},
       {"rotate axis 0 0 1 angle", "keyword 'rotate' expects axis ax ay az angle DEGREES"},
@@ -373,6 +391,11 @@ TEST(BodySpec, OutOfRangeAndBadWords)
       {"energy_file e.csv 0", "keyword 'energy_file' needs N > 0"},
       {"prescribed_velocity top 0 0 1 ramp 0",
        "keyword 'prescribed_velocity ... ramp T' needs T > 0"},
+      {"prescribed_velocity top NULL NULL NULL",
+       "keyword 'prescribed_velocity' got NULL for vx, vy and vz; expected a velocity for at "
+       "least one component (NULL leaves a component free)"},
+      {"prescribed_velocity top NULL x 0",
+       "keyword 'prescribed_velocity' expects a finite number, got 'x'"},
       {"model plastic", "keyword 'model' got 'plastic', expected one of: corotational elastic"},
       {"plane flat", "keyword 'plane' got 'flat', expected one of: axisymmetric strain stress"},
       {"contact_model jkr", "keyword 'contact_model' got 'jkr', expected one of: hertz hooke"},

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "materials/material_table.h"
 #include "materials/rankine.h"
 
 using namespace fracdem;
@@ -50,6 +51,31 @@ double kappa_e(const RankineParams& p, double h)
 {
   return p.gf / (h * p.ft) - 0.5 * p.ft / p.E;
 }
+// Petersson's (1981) bilinear law as published, in the crack opening w: ft at 0, ft / 3 at
+// 0.8 gf / ft, 0 at 3.6 gf / ft. Its inverse: the opening at which the law carries f.
+double petersson_opening(const RankineParams& p, double f)
+{
+  const double w1 = 0.8 * p.gf / p.ft, wc = 3.6 * p.gf / p.ft, f1 = p.ft / 3;
+  if (f >= f1) return w1 * (p.ft - f) / (p.ft - f1);
+  return w1 + (wc - w1) * (f1 - f) / f1;
+}
+// The band's stress at strain e: the f with e = f / E + w(f) / h (elastic strain plus the
+// opening smeared over h), by bisection: the right side falls with f below snap-back.
+double bilinear_band_stress(const RankineParams& p, double h, double e)
+{
+  if (e >= 3.6 * p.gf / (p.ft * h)) return 0.0;
+  double lo = 0, hi = p.ft;
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * p.ft; ++it) {
+    const double f = 0.5 * (lo + hi);
+    (f / p.E + petersson_opening(p, f) / h > e ? lo : hi) = f;
+  }
+  return 0.5 * (lo + hi);
+}
+// Strain at which the bilinear band carries no more stress.
+double kappa_c(const RankineParams& p, double h)
+{
+  return 3.6 * p.gf / (p.ft * h);
+}
 double uniaxial_stress(const RankineParams& p, double h, double e)
 {
   const double k0 = p.ft / p.E;
@@ -58,8 +84,23 @@ double uniaxial_stress(const RankineParams& p, double h, double e)
     const double kf = kappa_f(p, h);
     return e >= kf ? 0.0 : p.ft * (1 - (e - k0) / (kf - k0));
   }
+  if (p.softening == Softening::Bilinear) return bilinear_band_stress(p, h, e);
   return p.ft * std::exp(-(e - k0) / kappa_e(p, h));
 }
+// A strain past complete failure (exponential: 25 kappa_e past the peak, where the remaining
+// area ft ke e^-25 is 1e-11 of gf / h).
+double failure_strain(const RankineParams& p, double h)
+{
+  const double k0 = p.ft / p.E;
+  switch (p.softening) {
+  case Softening::Linear: return 1.1 * kappa_f(p, h);
+  case Softening::Bilinear: return 1.1 * kappa_c(p, h);
+  case Softening::Exponential: break;
+  }
+  return k0 + 25 * kappa_e(p, h);
+}
+
+const Softening kAllLaws[] = {Softening::Linear, Softening::Exponential, Softening::Bilinear};
 
 struct Point {
   std::vector<double> state = std::vector<double>(kRankineStateSize, 0.0);
@@ -188,14 +229,57 @@ TEST(Rankine, UniaxialExponentialSofteningFollowsCurveAndDissipatesGfOverH)
   EXPECT_GT(rankine_damage(pt.state.data()), 1 - 1e-10); // 1 - f / (E kappa), f = ft e^-25
 }
 
-// cracked() switches where the analytic law says: kappa_f (linear), f = 0.01 ft (exponential).
+// Bilinear: the band follows Petersson's law in w = h (eps - sigma / E), dissipates gf / h, and
+// ends at 3.6 gf / (ft h) with no stress left.
+TEST(Rankine, UniaxialBilinearSofteningFollowsCurveAndDissipatesGfOverH)
+{
+  const RankineParams p = concrete(Softening::Bilinear);
+  const double h = 0.1, kc = kappa_c(p, h); // 1.2e-3
+  Point pt;
+  const double work = drive_uniaxial(p, h, 1.1 * kc, 5000, pt);
+  EXPECT_LT(rel_err(work, p.gf / h), 0.005); // area under the law: gf
+  EXPECT_LT(rel_err(rankine_dissipated(pt.state.data()), work), 0.005);
+  EXPECT_EQ(rankine_damage(pt.state.data()), 1.0);
+  EXPECT_TRUE(rankine_cracked(p, pt.state.data()));
+}
+
+// Shape of each law through rankine_softening_stress: f(kappa0) = ft; bilinear: ft / 3 where the
+// opening h (kappa - f / E) is 0.8 gf / ft, zero from 3.6 gf / (ft h) on; linear: zero from
+// 2 gf / (ft h); exponential: 1 % of ft where the kernel calls the point cracked.
+TEST(Rankine, SofteningCurveShapes)
+{
+  for (double h : {0.05, 0.2}) {
+    for (Softening s : kAllLaws) {
+      const RankineParams p = concrete(s);
+      const double k0 = p.ft / p.E;
+      EXPECT_DOUBLE_EQ(rankine_softening_stress(p, k0, h), p.ft) << int(s);
+      EXPECT_NEAR(rankine_softening_stress(p, k0 * (1 + 1e-9), h), p.ft, 1e-6 * p.ft) << int(s);
+    }
+    const RankineParams b = concrete(Softening::Bilinear);
+    const double w1 = 0.8 * b.gf / b.ft, k1 = b.ft / (3 * b.E) + w1 / h;
+    EXPECT_NEAR(rankine_softening_stress(b, k1, h), b.ft / 3, 1e-12 * b.ft);
+    EXPECT_NEAR(h * (k1 - rankine_softening_stress(b, k1, h) / b.E), w1, 1e-12 * w1);
+    EXPECT_EQ(rankine_softening_stress(b, kappa_c(b, h), h), 0.0);
+    EXPECT_GT(rankine_softening_stress(b, 0.999 * kappa_c(b, h), h), 0.0);
+    const RankineParams l = concrete(Softening::Linear);
+    EXPECT_EQ(rankine_softening_stress(l, kappa_f(l, h), h), 0.0);
+    const RankineParams x = concrete(Softening::Exponential);
+    const double k99 = x.ft / x.E + kappa_e(x, h) * std::log(100.0);
+    EXPECT_NEAR(rankine_softening_stress(x, k99, h), 0.01 * x.ft, 1e-12 * x.ft);
+  }
+}
+
+// cracked() switches where the analytic law says: kappa_f (linear), kappa_c (bilinear),
+// f = 0.01 ft (exponential).
 TEST(Rankine, CrackedSwitchesAtTheAnalyticStrain)
 {
   const double h = 0.1;
-  for (Softening s : {Softening::Linear, Softening::Exponential}) {
+  for (Softening s : kAllLaws) {
     const RankineParams p = concrete(s);
     const double k0 = p.ft / p.E;
-    const double kc = s == Softening::Linear ? kappa_f(p, h) : k0 + kappa_e(p, h) * std::log(100.0);
+    const double kc = s == Softening::Linear     ? kappa_f(p, h)
+                      : s == Softening::Bilinear ? kappa_c(p, h)
+                                                 : k0 + kappa_e(p, h) * std::log(100.0);
     const std::vector<double> X = box(h, 1, 1);
     for (double f : {0.999, 1.001}) {
       Point pt;
@@ -229,18 +313,19 @@ TEST(Rankine, SofteningOnlyOnTheCurve)
   EXPECT_FALSE(at(1.01 * kf)); // cracked: no tension left
 }
 
-// 2. Crack band: the energy per unit crack AREA, dissipated * h, is gf for any h below snap-back.
-TEST(Rankine, DissipationTimesBandWidthIsGfForTwoBandWidths)
+// 2. Crack band: the energy per unit crack AREA, dissipated * h (and the work of the pull times
+// h), is gf to 0.5 % for three band widths below every law's snap-back length (2/3 m; bilinear
+// 0.4 m), the widest near the bilinear limit where its first branch is steep.
+TEST(Rankine, DissipationTimesBandWidthIsGfForThreeBandWidths)
 {
-  for (Softening s : {Softening::Linear, Softening::Exponential}) {
+  for (Softening s : kAllLaws) {
     const RankineParams p = concrete(s);
-    for (double h : {0.05, 0.4}) { // snap-back length 2/3
-      const double k0 = p.ft / p.E;
-      const double e_max = s == Softening::Linear ? 1.1 * kappa_f(p, h) : k0 + 25 * kappa_e(p, h);
+    for (double h : {0.02, 0.1, 0.38}) {
       Point pt;
-      drive_uniaxial(p, h, e_max, 5000, pt);
+      const double work = drive_uniaxial(p, h, failure_strain(p, h), 20000, pt);
       EXPECT_LT(rel_err(rankine_dissipated(pt.state.data()) * h, p.gf), 0.005)
           << "law " << int(s) << " h " << h;
+      EXPECT_LT(rel_err(work * h, p.gf), 0.005) << "law " << int(s) << " h " << h;
     }
   }
 }
@@ -453,10 +538,13 @@ TEST(Rankine, PureShearOnsetAtMuGammaEqualsFtWithNormalAt45Degrees)
 // 8. Snap-back length, parameter checks, bitwise determinism.
 TEST(Rankine, SnapbackLengthAndItsLimit)
 {
-  for (Softening s : {Softening::Linear, Softening::Exponential}) {
+  for (Softening s : kAllLaws) {
     const RankineParams p = concrete(s);
     const double lsb = rankine_snapback_length(p);
-    EXPECT_LT(rel_err(lsb, 2 * 30e9 * 100 / (3e6 * 3e6)), 1e-15); // 2 E gf / ft^2 = 2/3
+    // 2 E gf / ft^2 = 2/3 m; bilinear: h < E / k for its first slope k = (2/3) ft / (0.8 gf / ft),
+    // 1.2 E gf / ft^2 = 0.4 m.
+    const double factor = s == Softening::Bilinear ? 0.8 / (2.0 / 3.0) : 2.0;
+    EXPECT_LT(rel_err(lsb, factor * 30e9 * 100 / (3e6 * 3e6)), 1e-15) << int(s);
     // Just below: kappa_f > kappa0 (kappa_e > 0), a softening branch exists (d < 1 right after
     // onset). Above: no branch, documented vertical drop (d = 1), no NaN.
     for (double h : {0.99 * lsb, 1.5 * lsb}) {
@@ -807,4 +895,27 @@ TEST(Rankine, NoNanForZeroTinyStrainAndDegenerateElements)
     pt.step(p, StressMode::Solid, more, flat);
     EXPECT_TRUE(all_finite(pt));
   }
+}
+
+// The law is read from the one keyword table: every entry parses to its law, and an unknown
+// word is refused naming the keyword and the three choices.
+TEST(Rankine, SofteningKeywordTable)
+{
+  ASSERT_EQ(softening_laws().size(), 3u);
+  for (const SofteningLawInfo& s : softening_laws()) {
+    Material m;
+    EXPECT_EQ(parse_material_arguments(
+                  {"rankine", "strength", "3e6", "fracture_energy", "100", "softening", s.keyword},
+                  m),
+              "");
+    EXPECT_EQ(m.softening, s.law);
+    EXPECT_STREQ(softening_keyword(s.law), s.keyword);
+  }
+  Material m;
+  const std::string err = parse_material_arguments(
+      {"rankine", "strength", "3e6", "fracture_energy", "100", "softening", "cubic"}, m);
+  EXPECT_NE(err.find("material rankine"), std::string::npos) << err;
+  EXPECT_NE(err.find("softening: unknown law 'cubic', expected linear, exponential or bilinear"),
+            std::string::npos)
+      << err;
 }

@@ -257,11 +257,13 @@ void BodyDriver::build_distributed(Mesh& whole)
   check_crack_band();
 }
 
-// The softening law snaps back in elements wider than 2 E G_f / f_t^2: refuse them by name.
+// The softening law snaps back in elements wider than c E G_f / f_t^2 (c = 2 for linear and
+// exponential, 1.2 for bilinear: rankine_snapback_factor): refuse them by name.
 void BodyDriver::check_crack_band()
 {
   if (spec_->material.model != MaterialModel::Rankine) return;
-  const double limit = rankine_snapback_length(spec_->material.rankine());
+  const RankineParams p = spec_->material.rankine();
+  const double limit = rankine_snapback_length(p);
   const Mesh& mesh = body_.mesh();
   int worst = -1;
   double hmax = 0;
@@ -274,9 +276,10 @@ void BodyDriver::check_crack_band()
   }
   if (hmax >= limit)
     fail(format("fix fem/body %s: keyword 'material rankine': element %d of mesh '%s' is %g wide, "
-                "above the snap-back limit 2 E G_f / f_t^2 = %g of its softening law; refine the "
-                "mesh to elements below %g (or raise fracture_energy / lower strength).%s",
-                id_.c_str(), worst, spec_->mesh_file.c_str(), hmax, limit, limit,
+                "above the snap-back limit %g E G_f / f_t^2 = %g of its softening law '%s'; refine "
+                "the mesh to elements below %g (or raise fracture_energy / lower strength).%s",
+                id_.c_str(), worst, spec_->mesh_file.c_str(), hmax,
+                rankine_snapback_factor(p.softening), limit, softening_keyword(p.softening), limit,
                 mesh_unit_hint(hmax, limit, largest_side(mesh.X)).c_str()));
 }
 
@@ -523,7 +526,7 @@ void BodyDriver::start_run()
 {
   if (!velocities_applied_ && !restarted_) {
     for (const auto& s : spec_->initial_velocity)
-      body_.set_velocity(body_node_set(body_, *spec_, s.set, "velocity"), s.v);
+      body_.set_velocity(body_node_set(body_, *spec_, s.set, "velocity"), s.v, s.mask);
     body_.impose_velocity_conditions();
   }
   velocities_applied_ = true;

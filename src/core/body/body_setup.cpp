@@ -63,7 +63,7 @@ void build_body_from_mesh(const BodySpec& spec, Mesh mesh, Body& body)
     body.set_fixed(body_node_set(body, spec, s.set, "fixed"), s.mask, s.group);
   for (const NodeVelocitySpec& s : spec.prescribed_velocity)
     body.set_prescribed_velocity(body_node_set(body, spec, s.set, "prescribed_velocity"), s.v,
-                                 s.ramp, s.group);
+                                 s.ramp, s.group, s.mask);
   for (const NodeVelocitySpec& s : spec.initial_velocity)
     body_node_set(body, spec, s.set, "velocity"); // names checked now, applied at the run
 }

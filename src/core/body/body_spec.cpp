@@ -121,13 +121,19 @@ void parse_fixed(SpecReader& r, BodySpec& s)
   s.fixed_sets.push_back(f);
 }
 
+// GROUP vx vy vz, each component a number or NULL (LAMMPS convention: that component is not
+// given, its bit of the mask is cleared).
 NodeVelocitySpec node_velocity(SpecReader& r)
 {
-  r.need(4, "GROUP vx vy vz");
+  r.need(4, "GROUP vx vy vz (a component may be NULL)");
   NodeVelocitySpec v;
   v.set = r.word(1);
-  for (int d = 0; d < 3; ++d)
-    v.v[d] = r.number(2 + d);
+  for (int d = 0; d < 3; ++d) {
+    if (r.word(2 + d) == "NULL")
+      v.mask &= ~(1 << d);
+    else
+      v.v[d] = r.number(2 + d);
+  }
   r.take(5);
   return v;
 }
@@ -137,10 +143,13 @@ void parse_velocity(SpecReader& r, BodySpec& s)
   s.initial_velocity.push_back(node_velocity(r));
 }
 
-// prescribed_velocity GROUP vx vy vz [ramp T]
+// prescribed_velocity GROUP vx vy vz [ramp T]; a NULL component is free.
 void parse_prescribed_velocity(SpecReader& r, BodySpec& s)
 {
   NodeVelocitySpec v = node_velocity(r);
+  if (v.mask == 0)
+    fail("keyword 'prescribed_velocity' got NULL for vx, vy and vz; expected a velocity for at "
+         "least one component (NULL leaves a component free)");
   v.group = s.reaction_group(v.set);
   if (r.has(1) && r.keyword() == "ramp") {
     v.ramp = r.number(1);

@@ -43,6 +43,7 @@ struct FixedSpec {
 struct NodeVelocitySpec {
   std::string set;
   double v[3] = {0, 0, 0};
+  int mask = 7;    // components given (bit d = component d); NULL leaves a component out
   double ramp = 0; // prescribed_velocity: linear ramp time
   int group = -1;  // reaction account (prescribed_velocity)
 };

@@ -124,26 +124,32 @@ void Body::set_fixed(const std::vector<int>& nodes, int mask, int group)
 }
 
 void Body::set_prescribed_velocity(const std::vector<int>& nodes, const double v[3], double ramp,
-                                   int group)
+                                   int group, int mask)
 {
   for (int n : nodes) {
-    bc_[n] = NodeBc::Prescribed;
-    held_[n] = 7;
+    if (mask == 7) {
+      bc_[n] = NodeBc::Prescribed;
+      held_[n] = 7;
+    } else {
+      held_[n] = static_cast<std::uint8_t>((bc_[n] == NodeBc::Free ? 0 : held_[n]) | mask);
+      bc_[n] = NodeBc::Partial;
+    }
     ramp_[n] = ramp;
     bc_group_[n] = group;
     for (int d = 0; d < 3; ++d)
-      component_group_[3 * n + d] = group;
-    for (int d = 0; d < 3; ++d)
-      v_prescribed_[3 * n + d] = v[d];
+      if (mask >> d & 1) {
+        component_group_[3 * n + d] = group;
+        v_prescribed_[3 * n + d] = v[d];
+      }
   }
   open_reaction_group(group);
 }
 
-void Body::set_velocity(const std::vector<int>& nodes, const double v[3])
+void Body::set_velocity(const std::vector<int>& nodes, const double v[3], int mask)
 {
   for (int n : nodes)
     for (int d = 0; d < 3; ++d)
-      v_[3 * n + d] = v[d];
+      if (mask >> d & 1) v_[3 * n + d] = v[d];
 }
 
 void Body::impose_velocity_conditions()
@@ -157,7 +163,7 @@ void Body::impose_velocity_conditions()
         v_[3 * n + d] = v_prescribed_[3 * n + d] * ramp_factor(n, time_);
     else if (bc_[n] == NodeBc::Partial)
       for (int d = 0; d < 3; ++d)
-        if (held_[n] >> d & 1) v_[3 * n + d] = 0;
+        if (held_[n] >> d & 1) v_[3 * n + d] = v_prescribed_[3 * n + d] * ramp_factor(n, time_);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -186,13 +192,19 @@ void Body::half_kick_drift(double dt)
     } else if (bc_[n] == NodeBc::Fixed) {
       continue;
     } else if (bc_[n] == NodeBc::Partial) {
+      // Free components are kicked; held ones move at their prescribed velocity (at mid-step
+      // when ramped, like a Prescribed node; 0 where `fixed` holds them, so x stays put).
       const double s = half * inv_mass_[n];
-      for (int d = 0; d < 3; ++d)
+      const double r = ramp_[n] > 0 ? ramp_factor(n, time_ - 0.5 * dt) : 0.0;
+      for (int d = 0; d < 3; ++d) {
         if (!(held_[n] >> d & 1)) {
           v[d] += s * f_[3 * n + d];
           if (d == 0 && axisym && x[0] + dt * v[0] < 0) shield_drift(n);
-          x[d] += dt * v[d];
+        } else if (ramp_[n] > 0) {
+          v[d] = v_prescribed_[3 * n + d] * r;
         }
+        x[d] += dt * v[d];
+      }
       continue;
     } else if (ramp_[n] > 0) { // prescribed, ramped: the velocity at mid-step
       const double r = ramp_factor(n, time_ - 0.5 * dt);
@@ -492,7 +504,7 @@ void Body::add_reactions(double dt, bool count_work)
   double dw = 0;
   for (int n = 0; n < num_nodes(); ++n) {
     if (bc_[n] == NodeBc::Free || !counted(n)) continue;
-    const double rate = bc_[n] == NodeBc::Prescribed ? ramp_rate(n, time_) : 0.0;
+    const double rate = bc_[n] == NodeBc::Fixed ? 0.0 : ramp_rate(n, time_);
     for (int d = 0; d < 3; ++d) {
       const int g = component_group_[3 * n + d];
       if (g >= 0 && (held_[n] >> d & 1)) {
@@ -656,7 +668,9 @@ double Body::release_node(int n)
     kinetic = 0.5 * dm * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   mass_[n] = inv_mass_[n] = 0;
-  if (bc_[n] != NodeBc::Prescribed) v[0] = v[1] = v[2] = 0;
+  for (int d = 0; d < 3; ++d) // a held component keeps its prescribed velocity
+    if (bc_[n] != NodeBc::Prescribed && !(bc_[n] == NodeBc::Partial && (held_[n] >> d & 1)))
+      v[d] = 0;
   return kinetic;
 }
 

@@ -18,7 +18,8 @@ namespace fracdem
 {
 
 // Boundary condition of a node: free, held in place, moving at a prescribed velocity, or held
-// in some components only (Partial: see the node's held-component mask).
+// in some components only (Partial: see the node's held-component mask; a held component moves
+// at its prescribed velocity, 0 where `fixed` holds it).
 enum class NodeBc : std::uint8_t { Free = 0, Fixed = 1, Prescribed = 2, Partial = 3 };
 
 // What eroded elements took out of the body: their count, the mass removed with them
@@ -59,10 +60,14 @@ public:
   // Holds the components in `mask` (bit d: component d; 7 = all) of `nodes`. group: index of
   // the reaction account these nodes report to (-1: none).
   void set_fixed(const std::vector<int>& nodes, int mask = 7, int group = -1);
-  // Moves `nodes` at velocity v, ramped linearly from 0 over `ramp` (0: at once).
+  // Moves the components in `mask` of `nodes` at velocity v, ramped linearly from 0 over `ramp`
+  // (0: at once); their reactions go to `group`. With mask 7 the node is Prescribed; otherwise
+  // the other components stay as they were (free, or held by `fixed`) and the node is Partial,
+  // its held components moving at v_prescribed (0 where `fixed` holds them), with this ramp.
   void set_prescribed_velocity(const std::vector<int>& nodes, const double v[3], double ramp = 0,
-                               int group = -1);
-  void set_velocity(const std::vector<int>& nodes, const double v[3]);
+                               int group = -1, int mask = 7);
+  // Sets the components in `mask` of the nodes' velocities (the others are left as they are).
+  void set_velocity(const std::vector<int>& nodes, const double v[3], int mask = 7);
   // Velocities of fixed / prescribed nodes set to their conditions (after initial velocities).
   void impose_velocity_conditions();
   void set_rigid_motion(const RigidMotion& motion) { motion_ = motion; }

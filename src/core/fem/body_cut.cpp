@@ -212,31 +212,36 @@ void Body::cut_masses(int p, const std::vector<int>& nodes, const std::vector<do
 }
 
 // P is held where both ends are held: prescribed (interpolated velocity, u's ramp and group)
-// when both are, else in the components both hold; free when one end is prescribed and the
-// other not. Its reaction groups are u's.
+// when both are, else in the components both hold (moving at the interpolated prescribed
+// velocity of a partly prescribed end, 0 where `fixed` holds both); free when one end is
+// prescribed and the other not. Its reaction groups are u's.
 void Body::cut_conditions(int p, int u, int w, double t)
 {
   const bool pu = bc_[u] == NodeBc::Prescribed, pw = bc_[w] == NodeBc::Prescribed;
   std::uint8_t mask = 0;
+  bool moving = false;
   if (pu && pw) {
     bc_[p] = NodeBc::Prescribed;
     mask = 7;
-    ramp_[p] = ramp_[u];
-    for (int d = 0; d < 3; ++d)
-      v_prescribed_[3 * p + d] =
-          v_prescribed_[3 * u + d] + t * (v_prescribed_[3 * w + d] - v_prescribed_[3 * u + d]);
   } else if (!pu && !pw) {
     mask = held_[u] & held_[w];
-    bc_[p] = mask == 7 ? NodeBc::Fixed : mask ? NodeBc::Partial : NodeBc::Free;
+    for (int d = 0; d < 3; ++d)
+      moving |= (mask >> d & 1) && (v_prescribed_[3 * u + d] != 0 || v_prescribed_[3 * w + d] != 0);
+    bc_[p] = mask == 7 && !moving ? NodeBc::Fixed : mask ? NodeBc::Partial : NodeBc::Free;
   }
+  const bool interpolate = (pu && pw) || moving;
+  if (pu && pw) ramp_[p] = ramp_[u];
+  if (moving) ramp_[p] = ramp_[u] > 0 ? ramp_[u] : ramp_[w];
+  for (int d = 0; d < 3; ++d)
+    v_prescribed_[3 * p + d] = interpolate && (mask >> d & 1)
+                                   ? v_prescribed_[3 * u + d] +
+                                         t * (v_prescribed_[3 * w + d] - v_prescribed_[3 * u + d])
+                                   : 0.0;
   held_[p] = mask;
   bc_group_[p] = mask ? bc_group_[u] : -1;
   for (int d = 0; d < 3; ++d) {
     component_group_[3 * p + d] = (mask >> d & 1) ? component_group_[3 * u + d] : -1;
-    if (bc_[p] == NodeBc::Prescribed)
-      v_[3 * p + d] = v_prescribed_[3 * p + d] * ramp_factor(p, time_);
-    else if (mask >> d & 1)
-      v_[3 * p + d] = 0;
+    if (mask >> d & 1) v_[3 * p + d] = v_prescribed_[3 * p + d] * ramp_factor(p, time_);
   }
 }
 

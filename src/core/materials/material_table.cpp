@@ -16,7 +16,7 @@ const std::vector<MaterialModelInfo>& material_models()
   static const std::vector<MaterialModelInfo> table = {
       {"elastic", MaterialModel::Elastic, 0, false, ""},
       {"rankine", MaterialModel::Rankine, kRankineStateSize, true,
-       "strength FT fracture_energy GF [softening linear|exponential]"},
+       "strength FT fracture_energy GF [softening linear|exponential|bilinear]"},
       {"j2", MaterialModel::J2, kPlasticStateSize, false, "yield SY hardening H [exponent N]"},
       {"johnson_cook", MaterialModel::JohnsonCook, kPlasticStateSize, false,
        "A B N C M [eps0 E0] [tmelt TM] [troom TR] [cp CP]"},
@@ -131,9 +131,10 @@ bool parse_rankine(WordReader& r, bool open, Material& mat)
     if (kw == "softening") {
       if (r.i + 1 >= r.w.size()) return r.fail("missing softening law");
       const std::string& law = r.w[r.i + 1];
-      if (law != "linear" && law != "exponential")
-        return r.fail("softening: '" + law + "' is neither linear nor exponential");
-      mat.softening = law == "linear" ? Softening::Linear : Softening::Exponential;
+      const SofteningLawInfo* info = find_softening_law(law);
+      if (!info)
+        return r.fail("softening: unknown law '" + law + "', expected " + softening_law_choices());
+      mat.softening = info->law;
       r.i += 2;
     } else if (kw == "strength" || kw == "fracture_energy") {
       ++r.i;

@@ -136,20 +136,47 @@ double band_width(const double n[3], const double* X, int nnodes)
   return hi - lo;
 }
 
+// Bilinear law in kappa: the strains at the kink and at the end for band width h > 0.
+struct BilinearStrains {
+  double k1, kc;
+};
+BilinearStrains bilinear_strains(const RankineParams& p, double h)
+{
+  const double w = p.gf / p.ft; // the unit of the openings
+  return {kBilinearKinkStress * p.ft / p.E + kBilinearKinkOpening * w / h,
+          kBilinearFinalOpening * w / h};
+}
+
+double bilinear_stress(const RankineParams& p, double kappa, double h)
+{
+  const double k0 = p.ft / p.E;
+  const BilinearStrains b = bilinear_strains(p, h);
+  if (!(b.k1 > k0) || kappa >= b.kc) return 0;
+  if (kappa <= b.k1) return p.ft * (1 - (1 - kBilinearKinkStress) * (kappa - k0) / (b.k1 - k0));
+  return kBilinearKinkStress * p.ft * (b.kc - kappa) / (b.kc - b.k1);
+}
+
 // Stress f(kappa) still carried across the crack, kappa > kappa0. No softening branch (h <= 0 or
 // snap-back) means the limit of the law: a vertical drop to zero.
 double softening_stress(const RankineParams& p, double kappa, double h)
 {
   const double k0 = p.ft / p.E;
   if (!(h > 0)) return 0;
-  if (p.softening == Softening::Linear) {
+  switch (p.softening) {
+  case Softening::Linear: {
     const double kf = 2 * p.gf / (p.ft * h);
     if (!(kf > k0) || kappa >= kf) return 0;
     return p.ft * std::max(0.0, 1 - (kappa - k0) / (kf - k0));
   }
-  const double ke = p.gf / (h * p.ft) - 0.5 * k0;
-  if (!(ke > 0)) return 0;
-  return p.ft * std::exp(-(kappa - k0) / ke);
+  case Softening::Exponential: {
+    const double ke = p.gf / (h * p.ft) - 0.5 * k0;
+    if (!(ke > 0)) return 0;
+    return p.ft * std::exp(-(kappa - k0) / ke);
+  }
+  case Softening::Bilinear:
+    return bilinear_stress(p, kappa, h);
+  }
+  return 0;
 }
 
 // Updates kappa, h (at onset) and d from the major principal trial stress s1 along n1.
@@ -260,10 +287,19 @@ bool rankine_cracked(const RankineParams& p, const double* state)
   const double kappa = state[kKappa], h = state[kBand];
   const double k0 = p.ft / p.E;
   if (!(kappa > k0)) return false;
-  if (p.softening == Softening::Linear) {
+  switch (p.softening) {
+  case Softening::Linear: {
     if (!(h > 0)) return true;
     const double kf = 2 * p.gf / (p.ft * h);
     return !(kf > k0) || kappa >= kf;
+  }
+  case Softening::Bilinear: {
+    if (!(h > 0)) return true;
+    const BilinearStrains b = bilinear_strains(p, h);
+    return !(b.k1 > k0) || kappa >= b.kc;
+  }
+  case Softening::Exponential:
+    break;
   }
   return softening_stress(p, kappa, h) <= 0.01 * p.ft;
 }
@@ -279,9 +315,55 @@ bool rankine_softening(const RankineParams& p, StressMode mode, const double* st
   return s[0] / p.E >= state[kKappa];
 }
 
+double rankine_snapback_factor(Softening law)
+{
+  // h < E / k for the steepest slope -k of sigma(w): ft / wc with wc = 2 gf / ft (linear; the
+  // exponential law in kappa loses its branch at the same h), the first branch of the bilinear.
+  if (law == Softening::Bilinear) return kBilinearKinkOpening / (1 - kBilinearKinkStress);
+  return 2;
+}
+
 double rankine_snapback_length(const RankineParams& p)
 {
-  return 2 * p.E * p.gf / (p.ft * p.ft);
+  return rankine_snapback_factor(p.softening) * p.E * p.gf / (p.ft * p.ft);
+}
+
+double rankine_softening_stress(const RankineParams& p, double kappa, double h)
+{
+  return kappa > p.ft / p.E ? softening_stress(p, kappa, h) : p.ft;
+}
+
+const std::vector<SofteningLawInfo>& softening_laws()
+{
+  static const std::vector<SofteningLawInfo> table = {
+      {"linear", Softening::Linear},
+      {"exponential", Softening::Exponential},
+      {"bilinear", Softening::Bilinear},
+  };
+  return table;
+}
+
+const SofteningLawInfo* find_softening_law(const std::string& keyword)
+{
+  for (const SofteningLawInfo& s : softening_laws())
+    if (keyword == s.keyword) return &s;
+  return nullptr;
+}
+
+const char* softening_keyword(Softening law)
+{
+  for (const SofteningLawInfo& s : softening_laws())
+    if (s.law == law) return s.keyword;
+  return "?";
+}
+
+std::string softening_law_choices()
+{
+  const std::vector<SofteningLawInfo>& t = softening_laws();
+  std::string out;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    out += std::string(i == 0 ? "" : i + 1 == t.size() ? " or " : ", ") + t[i].keyword;
+  return out;
 }
 
 void rankine_check(const RankineParams& p)

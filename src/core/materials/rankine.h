@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace fracdem
 {
@@ -19,8 +21,15 @@ namespace fracdem
 //      Linear     : f = ft (1 - (kappa - kappa0) / (kappa_f - kappa0)), kappa_f = 2 gf / (ft h),
 //                   f = 0 for kappa >= kappa_f;
 //      Exponential: f = ft exp(-(kappa - kappa0) / kappa_e), kappa_e = gf / (h ft) - kappa0 / 2.
-//    Both dissipate exactly gf / h per unit volume in uniaxial tension (nu = 0) taken to complete
-//    failure, so the energy per unit crack area is gf whatever the element size (crack band).
+//      Bilinear   : Petersson (1981) in crack-band form. The law in the crack opening w is
+//                   sigma(w) linear from ft at w = 0 to ft / 3 at w1 = 0.8 gf / ft, then linear
+//                   to 0 at wc = 3.6 gf / ft (area gf). With w = h (kappa - f / E), the
+//                   opening of a band of width h, f is piecewise linear in kappa through
+//                   (kappa0, ft), (kappa_1, ft / 3) and (kappa_c, 0):
+//                   kappa_1 = kappa0 / 3 + w1 / h, kappa_c = wc / h; f = 0 for kappa >= kappa_c.
+//    All three dissipate exactly gf / h per unit volume in uniaxial tension (nu = 0) taken to
+//    complete failure, so the energy per unit crack area is gf whatever the element size (crack
+//    band). Linear in kappa is linear in w as well (w1 = wc = 2 gf / ft).
 //  * h (crack-band width) is fixed once, at onset (first call with kappa > kappa0), as the extent
 //    of the element across the major principal direction n_1 at that moment:
 //      h = max_a (n_1 . X_a) - min_a (n_1 . X_a)   over the element's reference nodes X_a.
@@ -67,10 +76,12 @@ namespace fracdem
 //
 // Limits the caller must respect (the kernel does not check them, it runs per point per step):
 //  * Validate the parameters once with rankine_check.
-//  * Snap-back: for h >= rankine_snapback_length(p) = 2 E gf / ft^2 no softening branch exists
-//    (kappa_f <= kappa0, kappa_e <= 0). Set-up must refuse such elements, e.g. every element
+//  * Snap-back: for h >= rankine_snapback_length(p) no softening branch exists: the steepest
+//    slope of sigma(w), -k, needs h < E / k. Linear and exponential: 2 E gf / ft^2
+//    (kappa_f <= kappa0, kappa_e <= 0); bilinear: its first branch, k = (2/3) ft / w1, gives
+//    1.2 E gf / ft^2 (kappa_1 <= kappa0). Set-up must refuse such elements, e.g. every element
 //    whose largest node-to-node extent (a bound on h for any direction) reaches that length. If
-//    one gets through anyway, the kernel takes the limit of both laws as h -> snap-back length
+//    one gets through anyway, the kernel takes the limit of the law as h -> snap-back length
 //    (a vertical drop: d = 1 at onset), which dissipates ft^2 / (2E) > gf / h; it never
 //    produces NaN or hardening.
 //  * h <= 0 at onset (all nodes on a plane normal to n_1, or elem_X == nullptr / nnodes <= 0) is
@@ -88,7 +99,21 @@ namespace fracdem
 //                      longer reads it)
 //   [19]     reserved (stays 0)
 
-enum class Softening : std::uint8_t { Linear, Exponential };
+enum class Softening : std::uint8_t { Linear, Exponential, Bilinear };
+// The softening laws by keyword (`material rankine ... softening KEYWORD`), the one table the
+// parser and the messages read.
+struct SofteningLawInfo {
+  const char* keyword;
+  Softening law;
+};
+const std::vector<SofteningLawInfo>& softening_laws();
+const SofteningLawInfo* find_softening_law(const std::string& keyword); // nullptr: unknown
+const char* softening_keyword(Softening law);
+std::string softening_law_choices(); // "linear, exponential or bilinear"
+// Petersson's bilinear law: kink stress / ft, kink opening and final opening in units of gf / ft.
+constexpr double kBilinearKinkStress = 1.0 / 3.0;
+constexpr double kBilinearKinkOpening = 0.8;
+constexpr double kBilinearFinalOpening = 3.6;
 // How the 3x3 strain/stress is read: see the model notes above.
 enum class StressMode : std::uint8_t { Solid, PlaneStrain, PlaneStress, Axisymmetric };
 
@@ -111,16 +136,22 @@ double rankine_damage(const double* state);              // d in [0, 1]
 double rankine_dissipated(const double* state);          // dissipated energy per unit volume
 const double* rankine_crack_normal(const double* state); // unit vector, zeros before onset
 double rankine_band_width(const double* state);          // h, 0 before onset
-// True once the point carries no more tension: linear softening kappa >= kappa_f; exponential:
-// remaining strength f(kappa) <= 0.01 ft. Also true for the h <= 0 / snap-back failures above.
+// True once the point carries no more tension: linear softening kappa >= kappa_f; bilinear
+// kappa >= kappa_c; exponential: remaining strength f(kappa) <= 0.01 ft. Also true for the
+// h <= 0 / snap-back failures above.
 bool rankine_cracked(const RankineParams& p, const double* state);
 // True while the point is on its softening curve: damaged, not yet cracked, and the strain of its
 // last update reached its largest equivalent strain (kappa grew or held there). A point below
 // that unloads elastically: its damage, and so its dissipation, stay where they are.
 bool rankine_softening(const RankineParams& p, StressMode mode, const double* state);
-// Largest crack-band width for which the softening law does not snap back: 2 E gf / ft^2 (both
-// laws).
+// Largest crack-band width for which the softening law does not snap back: 2 E gf / ft^2
+// (linear, exponential), 1.2 E gf / ft^2 (bilinear).
 double rankine_snapback_length(const RankineParams& p);
+// The same as a multiple of E gf / ft^2 (2 or 1.2), for messages.
+double rankine_snapback_factor(Softening law);
+// Softening stress f(kappa) of the law for band width h (ft at kappa0, see above); for the
+// curve-shape tests and plots. kappa <= kappa0 gives ft.
+double rankine_softening_stress(const RankineParams& p, double kappa, double h);
 // Throws std::invalid_argument naming the parameter for E <= 0, nu outside (-1, 0.5), ft <= 0,
 // gf <= 0 (NaN fails too).
 void rankine_check(const RankineParams& p);
