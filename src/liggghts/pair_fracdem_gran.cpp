@@ -86,7 +86,8 @@ void PairFracdemGran::init_style()
     if (!std::isfinite(rmin))
       fail(error, "no particle and no insertion fix at the run's start, so the reach of the "
                   "bridges' history is unknown; create or insert the particles before 'run'");
-    neighbor->register_contact_dist_factor(1.0 + rupture_ / (2.0 * rmin));
+    // The margin keeps the smallest pair inside the reach after the factor's round-off.
+    neighbor->register_contact_dist_factor(1.0 + (1.0 + 1e-6) * law_.rupture / (2.0 * rmin));
     history_factor_ = neighbor->contactDistanceFactor;
   }
   PairGranProxy::init_style();
@@ -125,7 +126,7 @@ void PairFracdemGran::parse_bridge(int narg, char** arg)
   const std::vector<std::string> words(arg, arg + narg);
   const std::string error_text = fracdem::parse_bridge_settings(words, bridge_);
   if (!error_text.empty()) fail(error, error_text);
-  rupture_ = fracdem::rupture_distance(bridge_.law);
+  law_ = fracdem::prepare_bridge(bridge_.law);
 }
 
 void PairFracdemGran::settings(int narg, char** arg)
@@ -149,16 +150,16 @@ void PairFracdemGran::settings(int narg, char** arg)
 void PairFracdemGran::init_granular()
 {
   PairGranProxy::init_granular();
-  if (!bridge_.on || neighbor->skin >= rupture_) return;
+  if (!bridge_.on || neighbor->skin >= law_.rupture) return;
   // Three significant digits rounded up, so that the value written passes this check.
-  const double unit = std::pow(10.0, std::floor(std::log10(rupture_)) - 2);
-  const double skin = std::ceil(rupture_ / unit) * unit;
+  const double unit = std::pow(10.0, std::floor(std::log10(law_.rupture)) - 2);
+  const double skin = std::ceil(law_.rupture / unit) * unit;
   char msg[400];
   std::snprintf(msg, sizeof msg,
                 "the bridge rupture distance (1 + theta/2) V^(1/3) = %.6g exceeds the neighbour "
                 "skin %.6g, so a list rebuild would lose bridges; write 'neighbor %.3g bin' or "
                 "more",
-                rupture_, neighbor->skin, skin);
+                law_.rupture, neighbor->skin, skin);
   fail(error, msg);
 }
 
@@ -186,7 +187,7 @@ void PairFracdemGran::read_restart_settings(FILE* fp, const int major, const int
   bridge_.wet = flags[1];
   wetted_ = flags[2];
   bridge_.law = fracdem::LiquidBridge{law[0], law[1], law[2], law[3]};
-  rupture_ = fracdem::rupture_distance(bridge_.law);
+  law_ = fracdem::prepare_bridge(bridge_.law);
   if (bridge_.on) bridge_offset_ = add_history_value("fracdem_bridge", "0");
 }
 
@@ -227,10 +228,17 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   double** v = atom->v;
   const double* radius = atom->radius;
   const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-  const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
-  const double gap = r - radius[i] - radius[j];
-  const bool was = state > 0.5 || (wet_now && gap < rupture_);
-  const bool now = fracdem::bridge_persists(was, gap, rupture_);
+  const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+  const double radsum = radius[i] + radius[j];
+  // Most listed pairs have never touched: no bridge, and no square root to learn it.
+  if (state < 0.5 && !wet_now && rsq > radsum * radsum) {
+    *contact_flag &= ~CONTACT_COHESION_MODEL;
+    return;
+  }
+  const double r = std::sqrt(rsq);
+  const double gap = r - radsum;
+  const bool was = state > 0.5 || (wet_now && gap < law_.rupture);
+  const bool now = fracdem::bridge_persists(was, gap, law_.rupture);
   state = now ? 1.0 : 0.0;
   // The flag keeps the pair's history through exchange and rebuilds while the bridge lasts.
   if (!now) {
@@ -238,7 +246,7 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
     return;
   }
   *contact_flag |= CONTACT_COHESION_MODEL;
-  if ((radius[i] + radius[j]) * (history_factor_ - 1.0) < rupture_)
+  if (radsum * (history_factor_ - 1.0) < law_.rupture)
     error->one(FLERR, "pair_style fracdem/gran: a bridged pair smaller than the smallest particles "
                       "at the run's start (radii changed, or inserted smaller); its bridge would "
                       "not survive a list rebuild: start a new run after the change");
@@ -246,8 +254,8 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   const double rate = (v[i][0] - v[j][0]) * en[0] + (v[i][1] - v[j][1]) * en[1] +
                       (v[i][2] - v[j][2]) * en[2]; // dS/dt
   const double rs = fracdem::derjaguin_radius(radius[i], radius[j]);
-  const double fn = fracdem::capillary_force(bridge_.law, rs, gap) +
-                    fracdem::viscous_force(bridge_.law, rs, gap, rate);
+  const double fn = fracdem::capillary_force(law_, rs, gap) +
+                    fracdem::viscous_force(law_, rs, gap, rate);
   const double fi[3] = {-fn * en[0], -fn * en[1], -fn * en[2]};
   double** f = atom->f;
   const int nlocal = atom->nlocal;
@@ -256,7 +264,7 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   if (newton_pair || j < nlocal)
     for (int d = 0; d < 3; ++d) f[j][d] -= fi[d];
   if (evflag) {
-    const double u = eflag_either ? fracdem::capillary_potential(bridge_.law, rs, gap) : 0.0;
+    const double u = eflag_either ? fracdem::capillary_potential(law_, rs, gap) : 0.0;
     ev_tally_xyz(i, j, nlocal, newton_pair, u, 0.0, fi[0], fi[1], fi[2], del[0], del[1], del[2]);
   }
 }

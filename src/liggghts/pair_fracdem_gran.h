@@ -39,7 +39,7 @@ private:
 
   fracdem::BridgeSettings bridge_;
   char* own_name_ = nullptr; // force->pair_style while it answers to "gran"
-  double rupture_ = 0;
+  fracdem::BridgeLaw law_; // bridge_.law prepared, with its rupture distance S_c
   double history_factor_ = 1; // the host's contactDistanceFactor this run
   int bridge_offset_ = -1; // index of the bridge state in a pair's contact history
   bool wetted_ = false;    // wet yes bridges close pairs once, when particles first exist

@@ -17,11 +17,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kWillettA = 1.05;
 constexpr double kWillettB = 2.5;
 
-double contact_force(const LiquidBridge& b, double r_star)
-{
-  return 2.0 * kPi * r_star * b.surface_tension * std::cos(b.contact_angle);
-}
-
 // int_0^x dt / (1 + a t + b t^2) with 4b > a^2.
 double willett_integral(double x)
 {
@@ -57,30 +52,55 @@ double rupture_distance(const LiquidBridge& b)
   return (1.0 + 0.5 * b.contact_angle) * std::cbrt(b.volume);
 }
 
-double capillary_force(const LiquidBridge& b, double r_star, double gap)
+BridgeLaw prepare_bridge(const LiquidBridge& b)
 {
-  if (gap >= rupture_distance(b)) return 0.0;
-  const double s = std::max(gap, 0.0) * std::sqrt(r_star / b.volume);
-  return contact_force(b, r_star) / (1.0 + kWillettA * s + kWillettB * s * s);
+  BridgeLaw law;
+  law.params = b;
+  law.rupture = rupture_distance(b);
+  law.two_pi_tension_cos = 2.0 * kPi * b.surface_tension * std::cos(b.contact_angle);
+  return law;
 }
 
-double capillary_potential(const LiquidBridge& b, double r_star, double gap)
+double capillary_force(const BridgeLaw& law, double r_star, double gap)
 {
-  const double sc = rupture_distance(b);
+  if (gap >= law.rupture) return 0.0;
+  const double s = std::max(gap, 0.0) * std::sqrt(r_star / law.params.volume);
+  return law.two_pi_tension_cos * r_star / (1.0 + kWillettA * s + kWillettB * s * s);
+}
+
+double capillary_potential(const BridgeLaw& law, double r_star, double gap)
+{
+  const double sc = law.rupture;
   if (gap >= sc) return 0.0;
-  const double k = std::sqrt(r_star / b.volume);
-  const double f0 = contact_force(b, r_star);
+  const double k = std::sqrt(r_star / law.params.volume);
+  const double f0 = law.two_pi_tension_cos * r_star;
   const double u0 = -f0 / k * willett_integral(k * sc); // willett_integral(0) = 0
   if (gap <= 0) return u0 + f0 * gap;
   return -f0 / k * (willett_integral(k * sc) - willett_integral(k * gap));
 }
 
-double viscous_force(const LiquidBridge& b, double r_star, double gap, double gap_rate)
+double viscous_force(const BridgeLaw& law, double r_star, double gap, double gap_rate)
 {
-  if (b.viscosity <= 0 || gap >= rupture_distance(b)) return 0.0;
+  const LiquidBridge& b = law.params;
+  if (b.viscosity <= 0 || gap >= law.rupture) return 0.0;
   const double s = std::max(gap, kViscousGapFloor * r_star);
   const double shape = 1.0 - 1.0 / std::sqrt(1.0 + 2.0 * b.volume / (kPi * r_star * s * s));
   return 6.0 * kPi * b.viscosity * r_star * r_star * gap_rate / s * shape * shape;
+}
+
+double capillary_force(const LiquidBridge& b, double r_star, double gap)
+{
+  return capillary_force(prepare_bridge(b), r_star, gap);
+}
+
+double capillary_potential(const LiquidBridge& b, double r_star, double gap)
+{
+  return capillary_potential(prepare_bridge(b), r_star, gap);
+}
+
+double viscous_force(const LiquidBridge& b, double r_star, double gap, double gap_rate)
+{
+  return viscous_force(prepare_bridge(b), r_star, gap, gap_rate);
 }
 
 namespace

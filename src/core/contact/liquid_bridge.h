@@ -64,6 +64,18 @@ double capillary_potential(const LiquidBridge& b, double r_star, double gap);
 // Pitois's F_v, positive when attractive (gap opening, gap_rate = dS/dt > 0); 0 beyond S_c.
 double viscous_force(const LiquidBridge& b, double r_star, double gap, double gap_rate);
 
+// A law with its constants evaluated once, for callers that evaluate it for every pair and step;
+// the functions above are these with the law prepared on each call.
+struct BridgeLaw {
+  LiquidBridge params;
+  double rupture = 0;            // S_c
+  double two_pi_tension_cos = 0; // 2 pi gamma cos(theta): F_c(0) = this R*
+};
+BridgeLaw prepare_bridge(const LiquidBridge& b);
+double capillary_force(const BridgeLaw& law, double r_star, double gap);
+double capillary_potential(const BridgeLaw& law, double r_star, double gap);
+double viscous_force(const BridgeLaw& law, double r_star, double gap, double gap_rate);
+
 // Whether a bridge exists after this step: one forms at contact (gap <= 0) and persists while the
 // gap stays below the rupture distance.
 inline bool bridge_persists(bool bridged, double gap, double rupture)
