@@ -18,6 +18,7 @@
 #include "force.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "update.h"
 
 using namespace LAMMPS_NS;
 
@@ -89,6 +90,10 @@ void PairFracdemGran::init_style()
     // The margin keeps the smallest pair inside the reach after the factor's round-off.
     neighbor->register_contact_dist_factor(1.0 + (1.0 + 1e-6) * law_.rupture / (2.0 * rmin));
     history_factor_ = neighbor->contactDistanceFactor;
+    if (bridge_.wet && !wetted_ && update->ntimestep > 0 && comm->me == 0)
+      error->warning(FLERR, "pair_style fracdem/gran: wet yes at a step > 0 bridges every pair "
+                            "closer than S_c now; after read_restart write 'wet no' (the bridges "
+                            "come from the restart file)");
   }
   PairGranProxy::init_style();
   answer_as_gran(true);
