@@ -1,6 +1,7 @@
 // compute fracdem/cost: per-particle a posteriori cost for LAMMPS's fix balance (weight var).
 #include "compute_fracdem_cost.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -16,7 +17,9 @@
 #include "update.h"
 #include "utils.h"
 
-#include "balance/cost_calibration.h"
+#include "balance/cost_model.h"
+#include "balance_exchange.h"
+#include "io/input_help.h"
 
 #include "fix_fem_body_lammps.h"
 
@@ -100,12 +103,11 @@ void FixFracdemCost::record()
   const int nall = nlocal + (newton ? atom->nghost : 0);
   step_cost_.assign(nall, 0.0);
   for (int i = 0; i < nlocal; ++i)
-    step_cost_[i] = weights.base;
+    step_cost_[i] = weights.particle;
 
   if (list_ && list_->ilist) {
     double** x = atom->x;
     const double* radius = atom->radius;
-    const double half_check = 0.5 * weights.check, half_pair = 0.5 * weights.pair;
     for (int ii = 0; ii < list_->inum; ++ii) {
       const int i = list_->ilist[ii];
       if (i >= nlocal) continue;
@@ -115,7 +117,8 @@ void FixFracdemCost::record()
         const int j = jlist[jj] & NEIGHMASK;
         const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
         const double rs = radius[i] + radius[j];
-        const double w = half_check + (dx * dx + dy * dy + dz * dz < rs * rs ? half_pair : 0.0);
+        const double w =
+            fracdem::balance::half_pair_cost(weights, dx * dx + dy * dy + dz * dz < rs * rs);
         step_cost_[i] += w;
         // newton on: the pair is in one rank's list only, the ghost's half goes to its owner by
         // reverse communication; newton off: the owner of j holds the pair too and adds its half.
@@ -131,7 +134,7 @@ void FixFracdemCost::record()
     if (static_cast<int>(checks.size()) != nlocal || contacts.size() != checks.size())
       continue; // no contact evaluated this step (no `contact` keyword)
     for (int i = 0; i < nlocal; ++i)
-      step_cost_[i] += weights.facet_check * checks[i] + weights.facet * contacts[i];
+      step_cost_[i] += weights.facet_check * checks[i] + weights.facet_contact * contacts[i];
   }
 
   double local = 0;
@@ -148,7 +151,7 @@ void FixFracdemCost::record()
 
 double FixFracdemCost::mean_cost(int i) const
 {
-  return sums_[i][1] > 0 ? sums_[i][0] / sums_[i][1] : weights.base;
+  return sums_[i][1] > 0 ? sums_[i][0] / sums_[i][1] : weights.particle;
 }
 
 void FixFracdemCost::grow_arrays(int nmax)
@@ -206,7 +209,14 @@ double FixFracdemCost::memory_usage()
 namespace
 {
 constexpr int kVectorSize = 9;
-}
+using Costs = fracdem::balance::InteractionCosts;
+// The compute's names of the recorded items and the work model's terms they price.
+constexpr int kNamedCosts = 5;
+const char* const kCostNames[kNamedCosts] = {"base", "check", "pair", "facet_check", "facet"};
+double Costs::*const kCostFields[kNamedCosts] = {&Costs::particle, &Costs::pair_check,
+                                                 &Costs::sphere_contact, &Costs::facet_check,
+                                                 &Costs::facet_contact};
+} // namespace
 
 double ComputeFracdemCost::number(const char* keyword, const char* word)
 {
@@ -219,33 +229,35 @@ double ComputeFracdemCost::number(const char* keyword, const char* word)
   return v;
 }
 
+// `cost NAME C ...` from arg[iarg + 1] on: the costs given (given[k]); returns the next argument.
+int ComputeFracdemCost::parse_costs(int iarg, int narg, char** arg, bool given[])
+{
+  ++iarg;
+  int pairs = 0;
+  while (iarg + 1 < narg) {
+    int k = 0;
+    while (k < kNamedCosts && std::strcmp(arg[iarg], kCostNames[k]) != 0)
+      ++k;
+    if (k == kNamedCosts) break;
+    weights_.*kCostFields[k] = number(kCostNames[k], arg[iarg + 1]);
+    given[k] = true;
+    iarg += 2;
+    ++pairs;
+  }
+  if (pairs == 0)
+    error->all(FLERR, "compute fracdem/cost: keyword 'cost' expects NAME C pairs (NAME: base, "
+                      "check, pair, facet_check, facet)");
+  return iarg;
+}
+
 ComputeFracdemCost::ComputeFracdemCost(LAMMPS* lmp, int narg, char** arg) : Compute(lmp, narg, arg)
 {
-  // Default relative costs: fix balance/graph's calibrated ones (a micro-benchmark of the
-  // kernels, relative to one pair check), measured on rank 0 and shared so all ranks weigh alike.
-  double c[5] = {0, 0, 0, 0, 0};
-  bool given[5] = {false, false, false, false, false};
-  const char* names[5] = {"base", "check", "pair", "facet_check", "facet"};
+  bool given[kNamedCosts] = {false, false, false, false, false};
   int iarg = 3;
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "cost") {
-      ++iarg;
-      int pairs = 0;
-      while (iarg + 1 < narg) {
-        int k = 0;
-        while (k < 5 && std::strcmp(arg[iarg], names[k]) != 0)
-          ++k;
-        if (k == 5) break;
-        c[k] = number(names[k], arg[iarg + 1]);
-        given[k] = true;
-        iarg += 2;
-        ++pairs;
-      }
-      if (pairs == 0)
-        error->all(FLERR,
-                   "compute fracdem/cost: keyword 'cost' expects NAME C pairs (NAME: base, check, "
-                   "pair, facet_check, facet)");
+      iarg = parse_costs(iarg, narg, arg, given);
     } else if (key == "every") {
       if (iarg + 1 >= narg) error->all(FLERR, "compute fracdem/cost: keyword 'every' needs N");
       const double v = number("every", arg[iarg + 1]);
@@ -254,32 +266,25 @@ ComputeFracdemCost::ComputeFracdemCost(LAMMPS* lmp, int narg, char** arg) : Comp
       every_ = static_cast<bigint>(v);
       iarg += 2;
     } else {
-      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every)", key);
+      error->all(FLERR, "compute fracdem/cost: unknown keyword '{}' (expected cost or every){}",
+                 key, fracdem::did_you_mean(key, {"cost", "every"}));
     }
   }
-
-  bool all_given = true;
-  for (bool g : given)
-    all_given = all_given && g;
+  // Costs not given: fix balance/graph's calibrated ones (a micro-benchmark of the kernels,
+  // relative to one pair check), measured on rank 0 and shared so all ranks weigh alike.
+  const bool all_given = std::all_of(given, given + kNamedCosts, [](bool g) { return g; });
   if (!all_given) {
-    fracdem::balance::InteractionCosts ic;
-    double cal[5] = {0, 0, 0, 0, 0};
-    if (comm->me == 0) {
-      ic = fracdem::balance::calibrate_costs();
-      cal[0] = ic.particle, cal[1] = ic.pair_check, cal[2] = ic.sphere_contact;
-      cal[3] = ic.facet_check, cal[4] = ic.facet_contact;
-    }
-    MPI_Bcast(cal, 5, MPI_DOUBLE, 0, world);
-    for (int k = 0; k < 5; ++k)
-      if (!given[k]) c[k] = cal[k];
+    const Costs calibrated = fracdem::balance::shared_calibrated_costs(world);
+    for (int k = 0; k < kNamedCosts; ++k)
+      if (!given[k]) weights_.*kCostFields[k] = calibrated.*kCostFields[k];
   }
-  weights_.base = c[0], weights_.check = c[1], weights_.pair = c[2];
-  weights_.facet_check = c[3], weights_.facet = c[4];
   if (comm->me == 0)
     utils::logmesg(lmp,
                    "compute fracdem/cost {}: relative costs{}: base {:.3g}, check {:.3g}, pair "
                    "{:.3g}, facet_check {:.3g}, facet {:.3g}\n",
-                   id, all_given ? "" : " (calibrated unless given)", c[0], c[1], c[2], c[3], c[4]);
+                   id, all_given ? "" : " (calibrated unless given)", weights_.particle,
+                   weights_.pair_check, weights_.sphere_contact, weights_.facet_check,
+                   weights_.facet_contact);
 
   peratom_flag = 1;
   size_peratom_cols = 0;
@@ -344,8 +349,8 @@ void ComputeFracdemCost::compute_vector()
   const double steps = fix_->run_steps > 0 ? static_cast<double>(fix_->run_steps) : 1.0;
   vector[2] = max[1] / steps;
   vector[3] = sum[1] / n / steps;
-  vector[4] = weights_.base, vector[5] = weights_.check, vector[6] = weights_.pair;
-  vector[7] = weights_.facet_check, vector[8] = weights_.facet;
+  for (int k = 0; k < kNamedCosts; ++k)
+    vector[4 + k] = weights_.*kCostFields[k];
 }
 
 double ComputeFracdemCost::memory_usage()

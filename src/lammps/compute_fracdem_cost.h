@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "balance/cost_model.h"
 #include "compute.h"
 #include "fix.h"
 
@@ -16,13 +17,6 @@ namespace LAMMPS_NS
 {
 
 class FixFemBodyLammps;
-
-// The relative cost of each recorded item (the core's InteractionCosts, named by the compute's
-// keywords): base = particle, check = pair check, pair = sphere contact, facet_check,
-// facet = facet contact.
-struct FracdemCostWeights {
-  double base = 1, check = 1, pair = 1, facet_check = 1, facet = 1;
-};
 
 // Internal: records, at the end of every step, what the step did for each particle and adds its
 // cost to the particle's sums. Not meant to be used directly (compute fracdem/cost creates it).
@@ -47,7 +41,9 @@ public:
   void unpack_reverse_comm(int, int*, double*) override;
   double memory_usage() override;
 
-  FracdemCostWeights weights;
+  // The relative cost of each recorded item (the compute's keywords: base = particle, check =
+  // pair_check, pair = sphere_contact, facet_check, facet = facet_contact; walls are not recorded).
+  fracdem::balance::InteractionCosts weights;
   bigint window = 0; // the sums restart at steps that are multiples of this (0: never)
 
   // Mean cost per recorded step of local atom i (the base cost when nothing was recorded).
@@ -79,10 +75,11 @@ public:
 
 private:
   double number(const char* keyword, const char* word);
+  int parse_costs(int iarg, int narg, char** arg, bool given[]);
 
   std::string id_fix_;
   FixFracdemCost* fix_ = nullptr;
-  FracdemCostWeights weights_;
+  fracdem::balance::InteractionCosts weights_;
   bigint every_ = -1; // -1: the Nevery of the first fix balance, else no reset
   int nmax_ = 0;
   double* cost_ = nullptr;

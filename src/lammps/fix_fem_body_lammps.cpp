@@ -24,6 +24,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "io/input_help.h"
 #include "mpi_body_host.h"
 
 using namespace LAMMPS_NS;
@@ -171,6 +172,8 @@ double contact_value(const fracdem::SpecReader& r, std::size_t j, const char* wh
 // keywords (contact_model, tangential) are refused naming it.
 void FixFemBodyLammps::parse_arguments(int narg, char** arg)
 {
+  const std::string units = fracdem::body_units_error(update->unit_style);
+  if (!units.empty()) error->all(FLERR, "{}: {}", kStyle, units);
   fracdem::BodySpecHost host;
   host.name = "LAMMPS";
   host.own["contact_model"] = host.own["tangential"] = refuse_liggghts_law;

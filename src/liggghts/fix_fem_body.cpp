@@ -20,6 +20,7 @@
 
 #include "contact/granular_law.h"
 #include "body/body_setup.h"
+#include "io/input_help.h"
 #include "mpi_body_host.h"
 
 using namespace LAMMPS_NS;
@@ -102,6 +103,8 @@ fracdem::BodyHost FixFemBody::host() const
 
 void FixFemBody::parse_arguments(int narg, char** arg)
 {
+  const std::string units = fracdem::body_units_error(update->unit_style);
+  if (!units.empty()) error->all(FLERR, (std::string(kStyle) + ": " + units).c_str());
   try {
     spec_ = fracdem::parse_body_spec(std::vector<std::string>(arg + 3, arg + narg));
     fracdem::check_body_spec(spec_, {}, atom->ntypes, domain->dimension);

@@ -32,6 +32,9 @@ cases = [
      "with 'partitioner scotch' each repartition is one SCOTCH_graphRepart call"),
     ("fix bal all balance/graph 10 1.1 repartition twice", "keyword 'repartition'"),
     ("fix bal all balance/graph 10 1.1 colour red", "unknown keyword 'colour'"),
+    ("fix bal all balance/graph 10 1.1 partioner metis",
+     "unknown keyword 'partioner' (expected model, cost, partitioner, repartition, cells, "
+     "insert_region or out); did you mean 'partitioner'?"),
     ("fix bal all balance/graph 10 1.1 cells 0.5", "keyword 'cells'"),
     ("fix bal all balance/graph 10 1.1 model apriori model aposteriori", "keyword 'model' given twice"),
     ("fix bal all balance/graph 10 1.1 insert_region nosuch", "no region 'nosuch'"),

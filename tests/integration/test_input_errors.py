@@ -12,6 +12,19 @@ cases = [
      "nothere.msh"),
     ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 colour red",
      "unknown keyword 'colour'"),
+    # A misspelt keyword names the nearest one, of the table or of the clause before it.
+    ("fix b all fem/body file block.msh type 2 density 7800 young 2e11 poisson 0.3",
+     "fix fem/body: unknown keyword 'young'; did you mean 'youngs'?"),
+    ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 material rankine strength 3e6 fracture_energy 100 fracture nodal evry 5",
+     "unknown keyword 'evry'; did you mean 'every' (in 'fracture nodal')?"),
+    ("fix b all fem/vtk 10 out bdy b",
+     "fix fem/vtk: unknown keyword 'bdy' (expected 'fix ID group fem/vtk N PREFIX body "
+     "BODY_FIX_ID'); did you mean 'body'?"),
+    # Concrete (snap-back limit 2 E G_f / f_t^2 = 0.67 m) on a 100 mm block written in mm: the
+    # error says the mesh may be in millimetres and names the keyword that converts it.
+    ("fix b all fem/body file block_mm.msh type 2 density 2400 youngs 30e9 poisson 0.2 material rankine strength 3e6 fracture_energy 100",
+     "The mesh (100 across) may be in millimetres: fracdem takes SI values, so its coordinates are "
+     "metres; 'scale 0.001' on fix fem/body converts a mesh drawn in mm."),
     ("fix b all fem/body file block.msh type 2 youngs 2e11 poisson 0.3",
      "'density'"),
     ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3 model plastic",
@@ -122,6 +135,7 @@ big_dt = ("fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poi
 for line, expected in cases + [big_dt]:
     wd = tempfile.mkdtemp(prefix="errors_")
     h.make_box_mesh(os.path.join(wd, "block.msh"), (2, 2, 2), (0.1, 0.1, 0.1))
+    h.make_box_mesh(os.path.join(wd, "block_mm.msh"), (2, 2, 2), (100, 100, 100))
     with open(os.path.join(wd, "garbage.msh"), "w") as f:
         f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 x\n")
     with open(os.path.join(wd, "inverted.msh"), "w") as f:
@@ -152,3 +166,33 @@ warn = [l for l in out.splitlines() if "WARNING" in l and "out of the box" in l]
 h.check(len(warn) == 1 and "its nodes have moved out of the box" in warn[0]
         and "fixed x-high face" in warn[0],
         f"a deformable body leaving the box: one warning, the run goes on ({warn})")
+
+# The remedy the mm error names: the same mesh and material with 'scale 0.001' set up and run.
+wd = tempfile.mkdtemp(prefix="errors_")
+h.make_box_mesh(os.path.join(wd, "block_mm.msh"), (2, 2, 2), (100, 100, 100))
+h.copy_inputs(["in.fe_common"], wd)
+with open(os.path.join(wd, "in.case"), "w") as f:
+    f.write("include in.fe_common\ntimestep 1e-8\n"
+            "fix b all fem/body file block_mm.msh type 2 density 2400 youngs 30e9 poisson 0.2 "
+            "material rankine strength 3e6 fracture_energy 100 scale 0.001\nrun 10\n")
+out = h.run(args.exe, "in.case", workdir=wd)
+h.check("ERROR" not in out and "fix fem/body b: block_mm.msh" in out,
+        "the mm mesh with 'scale 0.001' is taken and runs")
+
+# Bodies take SI values: host units other than si are refused, naming both (the preamble of the
+# cases above with its units line changed, or dropped: LIGGGHTS's default is lj).
+with open(os.path.join(h.INPUTS, "in.fe_common")) as f:
+    common = f.read()
+for units_line, expected in [("units           cgs", "'units cgs'"),
+                             ("", "'units lj' (the default of an input without a 'units' command)")]:
+    wd = tempfile.mkdtemp(prefix="errors_")
+    h.make_box_mesh(os.path.join(wd, "block.msh"), (2, 2, 2), (0.1, 0.1, 0.1))
+    with open(os.path.join(wd, "in.case"), "w") as f:
+        f.write(common.replace("units           si", units_line) + "timestep 1e-8\n"
+                "fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3\n"
+                "run 10\n")
+    out = h.run(args.exe, "in.case", workdir=wd, expect_fail=True)
+    err = [l for l in out.splitlines() if "ERROR" in l]
+    h.check(bool(err) and "fix fem/body: needs 'units si'" in err[0] and expected in err[0],
+            f"units '{units_line.split()[-1] if units_line else 'none'}' -> "
+            f"{err[0].strip() if err else 'no ERROR line'}")

@@ -19,6 +19,7 @@ h.make_box_mesh(os.path.join(wd, "block.msh"), (2, 2, 2), (0.1, 0.1, 0.1))
 BODY = "fix b all fem/body file block.msh type 2 density 7800 youngs 2e11 poisson 0.3"
 cases = [
     (BODY + " colour red", "fix fem/body: unknown keyword 'colour'"),
+    (BODY.replace("youngs", "young"), "fix fem/body: unknown keyword 'young'; did you mean 'youngs'?"),
     # The keywords of fracture, plasticity, erosion, rigid bodies and the energy file are the
     # LIGGGHTS adapter's, checked by the same core code.
     (BODY + " fracture nodal", "keyword 'fracture' needs a material that fails"),
@@ -99,6 +100,15 @@ for i, (extra, expected) in enumerate([
     out = lmp.run(f"in.atomic{i}", workdir=wd, expect_fail=True)
     err = [x for x in out.splitlines() if x.startswith("ERROR")]
     h.check(err and expected in err[0], f"atom_style atomic{extra[:8]}: {err[0] if err else out[-300:]}")
+
+# Bodies take SI values: other units (here cgs) are refused, naming both.
+with open(os.path.join(wd, "in.cgs"), "w") as f:
+    f.write("plugin load ${plugin}\nunits cgs\natom_style sphere\n"
+            "region box block -1 2 -1 1 -1 1\ncreate_box 2 box\n" + BODY + "\n")
+out = lmp.run("in.cgs", workdir=wd, expect_fail=True)
+err = [x for x in out.splitlines() if x.startswith("ERROR")]
+h.check(err and "fix fem/body: needs 'units si'" in err[0] and "'units cgs'" in err[0],
+        f"units cgs: {err[0] if err else out[-300:]}")
 
 # Particles in the group but no 'contact': they would pass through the body; the run warns.
 with open(os.path.join(wd, "in.nocontact"), "w") as f:

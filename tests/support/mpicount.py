@@ -98,10 +98,11 @@ SYMBOLS = Symbols()
 
 
 def owner_class(function_name):
-    """Which code made the call: the communicator, the balance fix, other project code."""
+    """Which code made the call: the communicator, the balance fix (with the MPI pieces of the
+    balance policy, namespace fracdem::balance), other project code."""
     if "CommGraph" in function_name:
         return "CommGraph"
-    if "FixBalanceGraph" in function_name:
+    if "FixBalanceGraph" in function_name or "fracdem::balance::" in function_name:
         return "FixBalanceGraph"
     return "other"
 

@@ -10,7 +10,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "balance/cost_calibration.h"
+#include "contact/cost_calibration.h"
 #include "balance/cell_grid.h"
 #include "balance/graph_partition.h"
 #include "test_support.h"
@@ -270,7 +270,7 @@ TEST(BalanceKernels, CalibratedCostsAreNormalisedPositiveAndFinite)
   // The calibration times kernels, so which costs more depends on the machine and its load (a
   // loaded CI machine once measured a contact below a check); what it guarantees is the unit
   // (a pair check is 1) and costs that a partitioner can use: finite, at least the floor 0.05.
-  const InteractionCosts c = calibrate_costs(0.02);
+  const InteractionCosts c = fracdem::calibrate_costs(0.02);
   EXPECT_DOUBLE_EQ(c.pair_check, 1.0);
   for (double cost : {c.particle, c.sphere_contact, c.facet_check, c.facet_contact, c.wall_check,
                       c.wall_contact}) {

@@ -421,7 +421,7 @@ TEST(BodySpec, UnknownKeywordAndHeader)
 {
   EXPECT_EQ(error_of("colour red"), "unknown keyword 'colour'");
   EXPECT_EQ(error_of("fixed base w"), "unknown keyword 'w'"); // not a component
-  EXPECT_EQ(error_of("erosions damage 1"), "unknown keyword 'erosions'");
+  EXPECT_EQ(error_of("erosions damage 1"), "unknown keyword 'erosions'; did you mean 'erosion'?");
   const std::string header = "expected 'fix ID group fem/body file MESH.msh keyword value ...'";
   for (const char* line : {"", "file", "mesh m.msh"}) {
     try {

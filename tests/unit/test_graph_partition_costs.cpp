@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "balance/cost_calibration.h"
+#include "balance/cost_model.h"
 #include "balance/cost_fit.h"
 
 using namespace fracdem::balance;

@@ -5,27 +5,12 @@
 #include <array>
 #include <vector>
 
-#include "balance/cost_calibration.h"
+#include "balance/cost_model.h"
 
 namespace fracdem::balance
 {
 
 // What one rank did in one check interval, by term of the work model, and the CPU time it took.
-// The ghost term is fitted too, so that boundary work does not bias the particle terms, but it is
-// not part of a particle's cost (it follows the cut, not the particle).
-enum CostTerm {
-  kParticle,
-  kWallCheck,
-  kPairCheck,
-  kSphereContact,
-  kWallContact,
-  kFacetCheck,
-  kFacetContact,
-  kGhost,
-  kCostTerms
-};
-using TermCounts = std::array<double, kCostTerms>;
-
 struct CostSample {
   TermCounts counts{};
   double seconds = 0;

@@ -13,6 +13,7 @@
 #include "body/body_setup.h"
 #include "body/part_restart.h"
 #include "fem/erosion.h"
+#include "io/input_help.h"
 #include "materials/rankine.h"
 
 namespace fracdem
@@ -274,8 +275,9 @@ void BodyDriver::check_crack_band()
   if (hmax >= limit)
     fail(format("fix fem/body %s: keyword 'material rankine': element %d of mesh '%s' is %g wide, "
                 "above the snap-back limit 2 E G_f / f_t^2 = %g of its softening law; refine the "
-                "mesh to elements below %g (or raise fracture_energy / lower strength)",
-                id_.c_str(), worst, spec_->mesh_file.c_str(), hmax, limit, limit));
+                "mesh to elements below %g (or raise fracture_energy / lower strength).%s",
+                id_.c_str(), worst, spec_->mesh_file.c_str(), hmax, limit, limit,
+                mesh_unit_hint(hmax, limit, largest_side(mesh.X)).c_str()));
 }
 
 std::string BodyDriver::describe() const

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "fem/node_split.h"
+#include "io/input_help.h"
 #include "materials/material_table.h"
 
 namespace fracdem
@@ -132,7 +133,9 @@ std::string parse_vtk_fix_args(const std::vector<std::string>& words, VtkFixArgs
 {
   const std::string usage = "expected 'fix ID group fem/vtk N PREFIX body BODY_FIX_ID'";
   if (words.size() != 4) return "fix fem/vtk: " + usage;
-  if (words[2] != "body") return "fix fem/vtk: unknown keyword '" + words[2] + "' (" + usage + ")";
+  if (words[2] != "body")
+    return "fix fem/vtk: unknown keyword '" + words[2] + "' (" + usage + ")" +
+           did_you_mean(words[2], {"body"});
   char* end = nullptr;
   out.nevery = std::strtoll(words[0].c_str(), &end, 10);
   if (words[0].empty() || *end != '\0' || out.nevery <= 0)

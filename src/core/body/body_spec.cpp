@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "io/input_help.h"
 #include "materials/material_table.h"
 
 namespace fracdem
@@ -311,16 +312,19 @@ void parse_bulk_viscosity(SpecReader& r, BodySpec& s)
   r.take(3);
 }
 
+// The criteria of `erosion`, each with one value.
+const std::map<std::string, double ErosionCriteria::*> kErosionCriteria = {
+    {"plastic_strain", &ErosionCriteria::plastic_strain},
+    {"damage", &ErosionCriteria::damage},
+    {"min_dt", &ErosionCriteria::min_dt}};
+
 // erosion plastic_strain EPS | damage D | min_dt DT (any of them, in any order, on one keyword):
 // the values are checked against the material by check_body_spec (erosion_setup_error).
 void parse_erosion(SpecReader& r, BodySpec& s)
 {
-  const std::map<std::string, double*> criteria = {{"plastic_strain", &s.erosion.plastic_strain},
-                                                   {"damage", &s.erosion.damage},
-                                                   {"min_dt", &s.erosion.min_dt}};
   int used = 0;
-  for (r.take(1); r.has(1) && criteria.count(r.keyword()); r.take(2), ++used)
-    *criteria.at(r.keyword()) = spec_number("erosion " + r.keyword(), r.word(1));
+  for (r.take(1); r.has(1) && kErosionCriteria.count(r.keyword()); r.take(2), ++used)
+    s.erosion.*kErosionCriteria.at(r.keyword()) = spec_number("erosion " + r.keyword(), r.word(1));
   if (used == 0 || !s.erosion.on())
     fail("keyword 'erosion' expects one or more of 'plastic_strain EPS' (EPS > 0), 'damage D' "
          "(0 < D <= 1), 'min_dt DT' (DT > 0)");
@@ -431,6 +435,9 @@ void parse_contact_penalty(SpecReader& r, BodySpec& s)
   if (s.contact_penalty <= 0) fail("keyword 'contact_penalty' must be > 0");
 }
 
+// The options after `contact_balance MODEL`, each with one value.
+const std::vector<std::string> kContactBalanceOptions = {"thresh", "every", "parts", "file"};
+
 // contact_balance a_priori|a_posteriori [thresh B] [every N] [parts K] [file PATH]
 void parse_contact_balance(SpecReader& r, BodySpec& s)
 {
@@ -443,8 +450,8 @@ void parse_contact_balance(SpecReader& r, BodySpec& s)
   else
     fail("keyword 'contact_balance' got '" + r.word(1) + "', expected a_priori or a_posteriori");
   std::size_t k = 2;
-  while (r.has(k) && (r.word(k) == "thresh" || r.word(k) == "every" || r.word(k) == "parts" ||
-                      r.word(k) == "file")) {
+  while (r.has(k) &&
+         std::count(kContactBalanceOptions.begin(), kContactBalanceOptions.end(), r.word(k))) {
     const std::string opt = r.word(k);
     if (!r.has(k + 1)) fail("keyword 'contact_balance': '" + opt + "' expects a value");
     if (opt == "thresh") {
@@ -539,17 +546,71 @@ std::string supported_list(const BodySpecHost& host)
   return list;
 }
 
-// The keyword at r: the host's own handler, else the table's where the host takes it.
-void parse_keyword(SpecReader& r, BodySpec& spec, const BodySpecHost& host)
+// The keywords a host takes: its own and the table's (all of it, or those it lists).
+std::vector<std::string> host_keywords(const BodySpecHost& host)
+{
+  std::vector<std::string> names;
+  for (const auto& own : host.own)
+    names.push_back(own.first);
+  if (host.supported.empty())
+    for (const Keyword& k : kKeywords)
+      names.push_back(k.keyword);
+  for (const BodySpecHost::Supported& k : host.supported)
+    names.push_back(k.keyword);
+  return names;
+}
+
+// The options of the clause that keyword `prev` opened, named in `clause` ("material rankine":
+// strength fracture_energy softening): a misspelt option ends the clause and so reaches the
+// keyword table as an unknown keyword.
+std::vector<std::string> clause_options(const std::string& prev, const BodySpec& s,
+                                        std::string& clause)
+{
+  std::vector<std::string> names;
+  clause = prev;
+  if (prev == "material") {
+    clause += std::string(" ") + material_model_info(s.material.model).keyword;
+    names = material_options(s.material.model);
+  } else if (prev == "fracture") {
+    clause = "fracture nodal";
+    for (const auto& option : kFractureOptions)
+      names.push_back(option.first);
+  } else if (prev == "erosion") {
+    for (const auto& criterion : kErosionCriteria)
+      names.push_back(criterion.first);
+  } else if (prev == "contact_balance") {
+    names = kContactBalanceOptions;
+  }
+  return names;
+}
+
+// "unknown keyword 'KW'", the host's list where it restricts the table, and the nearest of the
+// keywords the host takes and the options of the clause before KW (`prev`).
+std::string unknown_keyword(const std::string& kw, const std::string& prev, const BodySpec& s,
+                            const BodySpecHost& host)
+{
+  std::string msg = "unknown keyword '" + kw + "'";
+  if (!host.supported.empty())
+    msg += " (supported under " + host.name + ": " + supported_list(host) + ")";
+  std::string clause;
+  const std::vector<std::string> options = clause_options(prev, s, clause);
+  std::vector<std::string> names = host_keywords(host);
+  names.insert(names.end(), options.begin(), options.end());
+  const std::string near = nearest_word(kw, names);
+  if (near.empty()) return msg;
+  const bool option = std::count(options.begin(), options.end(), near) > 0;
+  return msg + "; did you mean '" + near + "'" + (option ? " (in '" + clause + "')" : "") + "?";
+}
+
+// The keyword at r: the host's own handler, else the table's where the host takes it. `prev`:
+// the keyword before it.
+void parse_keyword(SpecReader& r, BodySpec& spec, const BodySpecHost& host, const std::string& prev)
 {
   const std::string& kw = r.keyword();
   auto own = host.own.find(kw);
   if (own != host.own.end()) return own->second(r, spec);
   const Keyword* k = find_keyword(kw);
-  const bool restricted = !host.supported.empty();
-  if (!k)
-    fail("unknown keyword '" + kw + "'" +
-         (restricted ? " (supported under " + host.name + ": " + supported_list(host) + ")" : ""));
+  if (!k) fail(unknown_keyword(kw, prev, spec, host));
   if (!host.takes(kw))
     fail("keyword '" + kw + "' is not yet supported under " + host.name +
          " (supported: " + supported_list(host) + ")");
@@ -768,8 +829,12 @@ BodySpec parse_body_spec(const std::vector<std::string>& words, const BodySpecHo
     fail("expected 'fix ID group fem/body file MESH.msh keyword value ...'");
   BodySpec spec;
   spec.mesh_file = words[1];
-  for (SpecReader r(words, 2); !r.done();)
-    parse_keyword(r, spec, host);
+  std::string prev;
+  for (SpecReader r(words, 2); !r.done();) {
+    const std::string kw = r.keyword();
+    parse_keyword(r, spec, host, prev);
+    prev = kw;
+  }
   return spec;
 }
 

@@ -1,9 +1,12 @@
 // The one table of constitutive models and the parser of their arguments.
 #include "materials/material_table.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <initializer_list>
+
+#include "io/input_help.h"
 
 namespace fracdem
 {
@@ -37,6 +40,24 @@ const MaterialModelInfo& material_model_info(MaterialModel model)
   return material_models().front();
 }
 
+std::vector<std::string> material_options(MaterialModel model)
+{
+  // Lower-case words of the syntax are option names; constants are upper case, choices hold '|'.
+  std::vector<std::string> names;
+  std::string word;
+  for (const char c : std::string(material_model_info(model).syntax) + " ") {
+    if (c != ' ' && c != '[' && c != ']') {
+      word += c;
+      continue;
+    }
+    const bool name = !word.empty() && std::islower(static_cast<unsigned char>(word[0])) &&
+                      word.find_first_of("|ABCDEFGHIJKLMNOPQRSTUVWXYZ") == std::string::npos;
+    if (name) names.push_back(word);
+    word.clear();
+  }
+  return names;
+}
+
 namespace
 {
 
@@ -68,6 +89,15 @@ struct WordReader {
   }
 };
 
+// Where a required option is missing and the list stopped at a word near an option of `model`
+// (a misspelt "fracture_enrgy"): " ('fracture_enrgy'; did you mean 'fracture_energy'?)", else "".
+std::string misspelt_option(const WordReader& r, MaterialModel model)
+{
+  if (!r.more()) return "";
+  const std::string hint = did_you_mean(r.w[r.i], material_options(model));
+  return hint.empty() ? "" : " ('" + r.w[r.i] + "'" + hint + ")";
+}
+
 // Optional `key value` pairs. Stops (true) at a word that is no key when the caller takes the
 // rest (`open`), else fails on it.
 bool read_options(WordReader& r, bool open,
@@ -80,7 +110,10 @@ bool read_options(WordReader& r, bool open,
       if (kw == k.first) target = k.second;
     if (!target) {
       if (open) return true;
-      return r.fail("unknown word '" + kw + "'");
+      std::vector<std::string> names;
+      for (const auto& k : keys)
+        names.push_back(k.first);
+      return r.fail("unknown word '" + kw + "'" + did_you_mean(kw, names));
     }
     ++r.i;
     if (!r.number(kw.c_str(), *target)) return false;
@@ -110,10 +143,13 @@ bool parse_rankine(WordReader& r, bool open, Material& mat)
     } else if (open) {
       break;
     } else {
-      return r.fail("unknown word '" + kw + "'");
+      return r.fail("unknown word '" + kw + "'" +
+                    did_you_mean(kw, material_options(MaterialModel::Rankine)));
     }
   }
-  if (!have_ft || !have_gf) return r.fail("strength and fracture_energy are required");
+  if (!have_ft || !have_gf)
+    return r.fail("strength and fracture_energy are required" +
+                  misspelt_option(r, MaterialModel::Rankine));
   if (!(mat.ft > 0)) return r.fail("strength FT must be > 0");
   if (!(mat.gf > 0)) return r.fail("fracture_energy GF must be > 0");
   return true;
@@ -124,7 +160,8 @@ bool parse_j2(WordReader& r, bool open, PlasticParams& p)
   p.a = p.b = std::nan(""); // "not given" (number() never yields NaN)
   if (!read_options(r, open, {{"yield", &p.a}, {"hardening", &p.b}, {"exponent", &p.n}}))
     return false;
-  if (std::isnan(p.a) || std::isnan(p.b)) return r.fail("yield and hardening are required");
+  if (std::isnan(p.a) || std::isnan(p.b))
+    return r.fail("yield and hardening are required" + misspelt_option(r, MaterialModel::J2));
   return true;
 }
 

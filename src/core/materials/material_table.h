@@ -26,6 +26,9 @@ const std::vector<MaterialModelInfo>& material_models();
 // nullptr when no model has this keyword.
 const MaterialModelInfo* find_material_model(const std::string& keyword);
 const MaterialModelInfo& material_model_info(MaterialModel model);
+// The named options of a model's arguments, read from its syntax ("strength", "fracture_energy",
+// "softening" for rankine): the words a misspelt option is compared with.
+std::vector<std::string> material_options(MaterialModel model);
 
 // Reads the words after `material` (words[0] is the model keyword) into mat: model, and the
 // model's constants (Rankine strength etc., flow-stress constants); E, nu, rho are not touched.
