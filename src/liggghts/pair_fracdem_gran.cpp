@@ -20,6 +20,8 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "io/input_help.h"
+
 using namespace LAMMPS_NS;
 
 namespace
@@ -111,7 +113,8 @@ void PairFracdemGran::check_model_words(int narg, char** arg)
 {
   if (narg < 2 || std::strcmp(arg[0], "model") != 0) fail(error, std::string("") + kSyntax);
   if (std::strcmp(arg[1], "hertz") != 0)
-    fail(error, std::string("unknown model '") + arg[1] + "'; " + kSyntax);
+    fail(error, std::string("unknown model '") + arg[1] + "'" +
+                    fracdem::did_you_mean(arg[1], {"hertz"}) + "; " + kSyntax);
   bool history = false;
   for (int k = 2; k < narg; k += 2) {
     const std::string key = arg[k];

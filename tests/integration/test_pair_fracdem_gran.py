@@ -150,7 +150,9 @@ for bad, word, named in (("surface_tension 0.072", "surface_tension -1", "surfac
                          ("contact_angle 0.4", "contact_angle 1.6", "contact_angle"),
                          ("bridge willett", "bridge rabinovich", "rabinovich"),
                          ("model hertz", "model hooke", "hooke"),
-                         ("contact_angle 0.4", "angle 0.4", "angle")):
+                         ("contact_angle 0.4", "angle 0.4", "angle"),
+                         ("surface_tension 0.072", "surface_tenison 0.072",
+                          "did you mean 'surface_tension'?")):
     out = run("in.bridge_pull", variables=dict(skin=3e-4, mu=0, v=V), expect_fail=True,
               edit=lambda t, a=bad, b=word: t.replace(a, b))
     m = re.search(r"ERROR.*pair_style fracdem/gran: ([^\n]*)", out)

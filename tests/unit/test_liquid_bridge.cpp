@@ -194,3 +194,16 @@ TEST(LiquidBridge, SettingsParseTheKeywordTable)
   EXPECT_NE(error({"willett", "surface_tension", "x"}).find("needs a number"), std::string::npos);
   EXPECT_NE(error({"willett", "wet", "maybe"}).find("yes or no"), std::string::npos);
 }
+
+TEST(LiquidBridge, UnknownWordsGetTheNearestKeyword)
+{
+  BridgeSettings s;
+  EXPECT_NE(parse_bridge_settings({"willett", "surface_tenison", "0.07"}, s)
+                .find("did you mean 'surface_tension'?"),
+            std::string::npos);
+  EXPECT_NE(parse_bridge_settings({"willet"}, s).find("did you mean 'willett'?"),
+            std::string::npos);
+  // Nothing near: no suggestion.
+  EXPECT_EQ(parse_bridge_settings({"willett", "colour", "1"}, s).find("did you mean"),
+            std::string::npos);
+}

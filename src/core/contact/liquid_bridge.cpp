@@ -1,6 +1,8 @@
 // Liquid bridge force kernels: Willett's capillary force, Pitois's viscous force, Lian's rupture.
 #include "liquid_bridge.h"
 
+#include "io/input_help.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -145,7 +147,9 @@ std::string parse_bridge_keyword(const std::vector<std::string>& words, std::siz
     if (key != "viscosity") ++seen;
     return "";
   }
-  return "unknown bridge keyword '" + key + "'; " + kBridgeSyntax;
+  return "unknown bridge keyword '" + key + "'" +
+         did_you_mean(key, {"surface_tension", "contact_angle", "volume", "viscosity", "wet"}) +
+         "; " + kBridgeSyntax;
 }
 
 } // namespace
@@ -154,7 +158,8 @@ std::string parse_bridge_settings(const std::vector<std::string>& words, BridgeS
 {
   out = BridgeSettings{};
   if (words.empty() || words[0] != "willett")
-    return "unknown bridge model '" + (words.empty() ? std::string() : words[0]) + "'; " +
+    return "unknown bridge model '" + (words.empty() ? std::string() : words[0]) + "'" +
+           (words.empty() ? std::string() : did_you_mean(words[0], {"willett"})) + "; " +
            kBridgeSyntax;
   int seen = 0;
   for (std::size_t k = 1; k < words.size(); k += 2) {
