@@ -106,7 +106,8 @@ stacks = [rows(h.thermo_blocks(run("in.bridge_stack", np_=n, variables=dict(step
 worst = max(max(abs(p[k] - q[k]) / max(abs(p[k]), 1e-300) for k in ("KinEng", "bridge"))
             for p, q in zip(*stacks) if p["Step"] > 0)
 h.check(len(stacks[0]) == len(stacks[1]) == 21 and all(r["bridge"] < 0 for r in stacks[0]),
-        f"wetted stack: bridged throughout (bridge energy {stacks[0][-1]['bridge']:.3g} J at the end)")
+        f"wetted stack: bridged throughout "
+        f"(bridge energy {stacks[0][-1]['bridge']:.3g} J at the end)")
 # A bridge lost in an exchange or a rebuild would shift the bridge energy by ~1e-8 J in 3e-5 J.
 h.check(worst < 1e-9, f"wetted stack split along z: np 2 equals np 1 in kinetic and bridge energy "
                       f"(worst relative difference {worst:.2g})")
@@ -122,7 +123,8 @@ apart = [r for r in osc if r["gap"] > 0]
 worst_pe = max(abs(r["bridge"] - willett_potential(r["gap"], RE)) for r in apart[::50])
 e0 = osc[0]["KinEng"] + osc[0]["bridge"]
 h.check(worst_pe < 1e-6 * abs(e0),
-        f"the pair energy is the bridge potential -int_S^S_c F ds (worst {worst_pe:.2g} J of {abs(e0):.3g} J)")
+        f"the pair energy is the bridge potential -int_S^S_c F ds "
+        f"(worst {worst_pe:.2g} J of {abs(e0):.3g} J)")
 gain = max(r["KinEng"] + r["bridge"] - e0 for r in apart)
 h.check(gain < 1e-4 * abs(e0), f"kinetic + bridge energy never exceeds its start "
                                f"(largest excess {gain:.2g} J, start {e0:.4g} J)")
