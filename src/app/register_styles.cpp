@@ -5,6 +5,7 @@
 #include <string>
 
 #include "fix.h"
+#include "force.h"
 #include "lammps.h"
 #include "modify.h"
 #include "comm.h"
@@ -13,6 +14,7 @@
 #include "fix_balance_graph.h"
 #include "fix_fem_body.h"
 #include "fix_fem_vtk.h"
+#include "pair_fracdem_gran.h"
 
 using namespace LAMMPS_NS;
 
@@ -42,6 +44,11 @@ template <typename T> Fix* create_fix(LAMMPS* lmp, int narg, char** arg)
   return new T(lmp, narg, arg);
 }
 
+template <typename T> Pair* create_pair(LAMMPS* lmp)
+{
+  return new T(lmp);
+}
+
 } // namespace
 
 namespace fracdem
@@ -59,6 +66,8 @@ void register_styles(LAMMPS* lmp)
     lmp->comm = new CommGraph(lmp);
   }
   fix_map["fem/vtk"] = &create_fix<FixFemVtk>;
+  // Force::pair_map is public in LIGGGHTS 3.8.
+  (*lmp->force->pair_map)["fracdem/gran"] = &create_pair<PairFracdemGran>;
 }
 
 } // namespace fracdem
