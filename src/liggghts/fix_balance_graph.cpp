@@ -407,8 +407,8 @@ void FixBalanceGraph::repartition(const Measured& m, const fb::RankWork& work, d
 bool FixBalanceGraph::kept_owners(bool failed, const std::string& failure) const
 {
   if (failed && comm->me == 0)
-    error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + failure)
-                              .c_str());
+    error->warning(FLERR,
+                   ("fix balance/graph: partitioning failed, ownership kept: " + failure).c_str());
   return failed;
 }
 
@@ -460,8 +460,7 @@ void FixBalanceGraph::repartition_distributed(const Measured& m,
   const std::int64_t first = vtxdist[comm->me];
   fb::DistributedGraph g;
   try {
-    g = fb::build_distributed_graph(distributed_share(m, weight, first), std::move(vtxdist),
-                                    world);
+    g = fb::build_distributed_graph(distributed_share(m, weight, first), std::move(vtxdist), world);
   } catch (const std::exception& e) {
     error->one(FLERR, (std::string("fix balance/graph: ") + e.what()).c_str());
   }
@@ -490,8 +489,8 @@ fb::DistributedShare FixBalanceGraph::distributed_share(const Measured& m,
   for (std::size_t e = 0; 2 * e + 1 < m.ends.size(); ++e) {
     const double j = vertex_number_[m.ends[2 * e + 1]];
     if (j < 0) continue; // a ghost the forward communication did not reach
-    share.edges.insert(share.edges.end(), {m.ends[2 * e], static_cast<std::int64_t>(j),
-                                           m.edges[3 * e + 2]});
+    share.edges.insert(share.edges.end(),
+                       {m.ends[2 * e], static_cast<std::int64_t>(j), m.edges[3 * e + 2]});
   }
   return share;
 }

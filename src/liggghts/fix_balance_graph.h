@@ -97,9 +97,8 @@ private:
   void repartition_particles(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_cells(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_distributed(const Measured& m, const std::vector<std::int64_t>& weight);
-  fracdem::balance::DistributedShare distributed_share(const Measured& m,
-                                                       const std::vector<std::int64_t>& weight,
-                                                       std::int64_t first);
+  fracdem::balance::DistributedShare
+  distributed_share(const Measured& m, const std::vector<std::int64_t>& weight, std::int64_t first);
   void apply_destinations(std::vector<int> dest, const fracdem::balance::PartitionResult& r);
   void note_layout(const std::string& layout);
   void record_repartition(const fracdem::balance::PartitionResult& r, double migrated);

@@ -42,10 +42,10 @@ void agree(int rc, const char* routine, MPI_Comm comm)
   int mine = rc != 0, any = 0;
   MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
   if (!any) return;
-  throw std::runtime_error(std::string(routine) + " failed " +
-                           (rc ? "with return code " + std::to_string(rc)
-                               : std::string("on another rank")) +
-                           " (PT-Scotch printed the reason to stderr)");
+  throw std::runtime_error(
+      std::string(routine) + " failed " +
+      (rc ? "with return code " + std::to_string(rc) : std::string("on another rank")) +
+      " (PT-Scotch printed the reason to stderr)");
 }
 
 // The local rows in SCOTCH_Num, weights divided by a common factor where their global sums would
@@ -122,8 +122,8 @@ void build(Session& s, const DistributedGraph& g, ScotchRows& r, MPI_Comm comm)
   s.graph_ok = true;
   const Num n = static_cast<Num>(g.local.vwgt.size());
   const Num arcs = static_cast<Num>(g.local.adjncy.size());
-  agree(SCOTCH_dgraphBuild(&s.graph, 0, n, n, r.vert.data(), nullptr, r.velo.data(), nullptr,
-                           arcs, arcs, r.edge.data(), nullptr, r.edlo.data()),
+  agree(SCOTCH_dgraphBuild(&s.graph, 0, n, n, r.vert.data(), nullptr, r.velo.data(), nullptr, arcs,
+                           arcs, r.edge.data(), nullptr, r.edlo.data()),
         "SCOTCH_dgraphBuild", comm);
   bind_context(s, comm);
 }
@@ -139,8 +139,9 @@ constexpr int kCoarsest = 200;
 std::string strategy(double imbalance)
 {
   const std::string bal = std::to_string(imbalance);
-  const std::string seq = "m{vert=80,low=h{pass=10}f{bal=" + bal + ",move=80},asc=b{bnd=f{bal=" +
-                          bal + ",move=80},org=f{bal=" + bal + ",move=80}}}";
+  const std::string seq = "m{vert=80,low=h{pass=10}f{bal=" + bal +
+                          ",move=80},asc=b{bnd=f{bal=" + bal + ",move=80},org=f{bal=" + bal +
+                          ",move=80}}}";
   return "r{bal=" + bal + ",sep=m{vert=" + std::to_string(kCoarsest) +
          ",asc=b{bnd=(d{pass=40}|)x{bal=" + bal + "},org=x{bal=" + bal + "}},low=q{strat=" + seq +
          "},seq=q{strat=" + seq + "}},seq=r{bal=" + bal + ",poli=S,sep=" + seq + "}}";
@@ -173,9 +174,9 @@ double scotch_edge_cut(Session& s, const DistributedGraph& g, const std::vector<
   agree(SCOTCH_dgraphGhst(&s.container), "SCOTCH_dgraphGhst", comm);
   Num nghost_total = 0;
   Num* edgegst = nullptr;
-  SCOTCH_dgraphData(&s.container, nullptr, nullptr, nullptr, nullptr, &nghost_total, nullptr, nullptr,
-                    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &edgegst, nullptr,
-                    nullptr);
+  SCOTCH_dgraphData(&s.container, nullptr, nullptr, nullptr, nullptr, &nghost_total, nullptr,
+                    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &edgegst,
+                    nullptr, nullptr);
   std::vector<Num> halo(std::max<Num>(nghost_total, 1), 0);
   std::copy(part.begin(), part.end(), halo.begin());
   const MPI_Datatype type = sizeof(Num) == 8 ? MPI_INT64_T : MPI_INT32_T;
@@ -255,7 +256,8 @@ DistributedResult partition_ptscotch(const DistributedGraph& g, int, double, MPI
   DistributedResult r;
   r.failed = true;
   r.failure = "partitioner ptscotch: this build has no PT-Scotch (install libptscotch-dev and "
-              "rebuild) " + graph_size(nranks, graph_totals(g, comm));
+              "rebuild) " +
+              graph_size(nranks, graph_totals(g, comm));
   return r;
 }
 

@@ -102,9 +102,8 @@ Whole gather_whole(const fb::DistributedGraph& dg, const std::vector<int>& part,
   for (std::size_t v = 0; v + 1 < dg.local.xadj.size(); ++v)
     for (std::int64_t e = dg.local.xadj[v]; e < dg.local.xadj[v + 1]; ++e)
       if (dg.first() + static_cast<std::int64_t>(v) < dg.local.adjncy[e])
-        triples.insert(triples.end(),
-                       {dg.first() + static_cast<std::int64_t>(v), dg.local.adjncy[e],
-                        dg.local.adjwgt[e]});
+        triples.insert(triples.end(), {dg.first() + static_cast<std::int64_t>(v),
+                                       dg.local.adjncy[e], dg.local.adjwgt[e]});
   auto gather = [&](std::vector<std::int64_t> mine) {
     int count = static_cast<int>(mine.size());
     std::vector<int> counts(nranks), disp(nranks);
@@ -121,7 +120,8 @@ Whole gather_whole(const fb::DistributedGraph& dg, const std::vector<int>& part,
   };
   const std::vector<std::int64_t> edges = gather(triples);
   const std::vector<std::int64_t> vwgt = gather(dg.local.vwgt);
-  const std::vector<std::int64_t> parts = gather(std::vector<std::int64_t>(part.begin(), part.end()));
+  const std::vector<std::int64_t> parts =
+      gather(std::vector<std::int64_t>(part.begin(), part.end()));
   Whole w;
   if (me != 0) return w;
   std::vector<fb::WeightedPair> pairs;
@@ -190,8 +190,8 @@ int main(int argc, char** argv)
   // A failure is agreed by all ranks and names the rank count and graph size.
   const fb::DistributedResult bad = fb::partition_ptscotch(g, nranks, 0.5, MPI_COMM_WORLD);
   if (me == 0)
-    check(bad.failed && bad.failure.find(std::to_string(nranks) + " ranks, graph of ") !=
-                            std::string::npos,
+    check(bad.failed &&
+              bad.failure.find(std::to_string(nranks) + " ranks, graph of ") != std::string::npos,
           "an impossible tolerance fails, agreed: '" + bad.failure + "'");
   int failures = g_failures;
   MPI_Bcast(&failures, 1, MPI_INT, 0, MPI_COMM_WORLD);

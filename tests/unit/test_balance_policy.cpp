@@ -152,11 +152,12 @@ TEST(PartitionStrategy, TableRejectsAnUnknownPartitionerByName)
     find_partitioner("chaco");
     FAIL() << "an unknown partitioner was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(),
-                 "keyword 'partitioner': expected metis or scotch or rcb or layers or ptscotch, got 'chaco'");
+    EXPECT_STREQ(e.what(), "keyword 'partitioner': expected metis or scotch or rcb or layers or "
+                           "ptscotch, got 'chaco'");
   }
-  EXPECT_EQ(spec_error({"10", "1.1", "partitioner", "chaco"}),
-            "keyword 'partitioner': expected metis or scotch or rcb or layers or ptscotch, got 'chaco'");
+  EXPECT_EQ(
+      spec_error({"10", "1.1", "partitioner", "chaco"}),
+      "keyword 'partitioner': expected metis or scotch or rcb or layers or ptscotch, got 'chaco'");
 }
 
 // The strategy is the partitioners' own calls in a fixed order: `scratch` with METIS is METIS
