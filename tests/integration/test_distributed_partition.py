@@ -1,5 +1,7 @@
 """`partitioner ptscotch`: the balancing graph stays distributed, and the counts show it scale.
 
+0. The keyword is accepted; in a build without PT-Scotch it is refused naming libptscotch-dev,
+   and the rest is skipped (saying so).
 1. `fracdem_partition_check` (tests/support/distributed_partition_check.cpp) at 4 ranks, cells
    handed out shuffled, and at 3 ranks in slabs: a grid graph listed in pieces is made symmetric
    (edge count and merged weights exact), PT-Scotch's partition is balanced within 1.05, its
@@ -32,8 +34,10 @@
 """
 import math
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 import harness as h
@@ -164,6 +168,28 @@ def check_quality(np_, q_dist, q_gath):
             f"{max(q_dist['pred']):.3f} <= 1.05 (METIS: {max(q_gath['pred']):.3f})")
 
 
+def built_with_ptscotch():
+    """The keyword on one rank for no steps: accepted, or (a build without PT-Scotch) refused
+    naming the package to install; then the rest of this test does not apply."""
+    wd = tempfile.mkdtemp(prefix="ptscotch_probe_")
+    shutil.copy(BED_IN, wd)
+    cmd = h.mpirun(1) + [args.exe, "-echo", "none", "-in", os.path.basename(BED_IN), "-var",
+                         "steps", "0", "-var", "cover", "partitioner ptscotch"]
+    r = subprocess.run(cmd, cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                       errors="replace", timeout=300)
+    if "this build has no PT-Scotch" not in r.stdout:
+        ok = r.returncode == 0 and "ERROR" not in r.stdout
+        h.check(ok, "'partitioner ptscotch' is accepted by this build" +
+                ("" if ok else f":\n{r.stdout[-2000:]}"))
+        return True
+    h.check("libptscotch-dev" in r.stdout and r.returncode != 0,
+            "a build without PT-Scotch refuses 'partitioner ptscotch' naming libptscotch-dev")
+    print("note: this build has no PT-Scotch: the distributed partitioner's checks are skipped")
+    return False
+
+
+if not built_with_ptscotch():
+    sys.exit(0)
 check_program()
 base, elapsed = None, 0.0
 for np_ in (4, 8, 16):
