@@ -12,6 +12,7 @@
 #include "atom.h"
 #include "balance/gathered_graph.h"
 #include "ptscotch_partition.h"
+#include "zoltan_partition.h"
 #include "comm.h"
 #include "comm_graph.h"
 #include "domain.h"
@@ -35,6 +36,26 @@ namespace fb = fracdem::balance;
 namespace
 {
 
+// The distributed partitioners' engines: whether this build has them, and the call.
+const char* engine(fb::Partitioner p)
+{
+  return p == fb::Partitioner::PtScotch ? "PT-Scotch" : "Zoltan";
+}
+
+bool built_with(fb::Partitioner p)
+{
+  return p == fb::Partitioner::PtScotch ? fb::have_ptscotch() : fb::have_zoltan();
+}
+
+fb::DistributedResult partition_distributed(fb::Partitioner p, const fb::DistributedGraph& g,
+                                            int nparts, MPI_Comm comm)
+{
+  if (p == fb::Partitioner::PtScotch)
+    return fb::partition_ptscotch(g, nparts, fb::kDistributedTolerance, comm);
+  return fb::partition_zoltan(g, nparts, fb::kDistributedTolerance,
+                              p == fb::Partitioner::ZoltanPhg, comm);
+}
+
 double thread_cpu_seconds()
 {
   timespec ts;
@@ -50,9 +71,9 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
       strategy_(spec_.partitioner, spec_.strategy)
 {
   const fb::PartitionerInfo& partitioner = fb::partitioner_info(spec_.partitioner);
-  if (partitioner.distributed && !fb::have_ptscotch())
-    fail(std::string("keyword 'partitioner ") + partitioner.name +
-         "': this build has no PT-Scotch; install the Debian package " + partitioner.package +
+  if (partitioner.distributed && !built_with(partitioner.id))
+    fail(std::string("keyword 'partitioner ") + partitioner.name + "': this build has no " +
+         engine(partitioner.id) + "; install the Debian package " + partitioner.package +
          " (apt-get install --no-install-recommends " + partitioner.package +
          ") and rebuild fracdem, or choose another partitioner");
   if (!spec_.out_file.empty() && comm->me == 0) {
@@ -465,7 +486,7 @@ void FixBalanceGraph::repartition_distributed(const Measured& m,
     error->one(FLERR, (std::string("fix balance/graph: ") + e.what()).c_str());
   }
   const fb::DistributedResult r =
-      fb::partition_ptscotch(g, comm->nprocs, fb::kDistributedTolerance, world);
+      partition_distributed(spec_.partitioner, g, comm->nprocs, world);
   if (kept_owners(r.failed, r.failure)) return;
   fb::PartitionResult result;
   result.predicted_imbalance = r.predicted_imbalance;

@@ -17,30 +17,6 @@ struct Entry {
   std::int64_t row, nbr, w; // row: local vertex; nbr: global number
 };
 
-// The entries sent to other ranks, bucketed by destination: (global b, global a, w) each.
-std::vector<std::int64_t> exchange_crossing(const std::vector<std::vector<std::int64_t>>& out,
-                                            MPI_Comm comm)
-{
-  const int nranks = static_cast<int>(out.size());
-  std::vector<int> scount(nranks), rcount(nranks), sdisp(nranks), rdisp(nranks);
-  std::vector<std::int64_t> sbuf;
-  for (int p = 0; p < nranks; ++p) {
-    sdisp[p] = static_cast<int>(sbuf.size());
-    scount[p] = static_cast<int>(out[p].size());
-    sbuf.insert(sbuf.end(), out[p].begin(), out[p].end());
-  }
-  MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int p = 0; p < nranks; ++p)
-    rdisp[p] = total, total += rcount[p];
-  std::vector<std::int64_t> rbuf(std::max(total, 1));
-  sbuf.resize(std::max<std::size_t>(sbuf.size(), 1));
-  MPI_Alltoallv(sbuf.data(), scount.data(), sdisp.data(), MPI_INT64_T, rbuf.data(), rcount.data(),
-                rdisp.data(), MPI_INT64_T, comm);
-  rbuf.resize(total);
-  return rbuf;
-}
-
 // CSR rows from unordered entries: sorted by row and neighbour, duplicates summed.
 Graph rows_of(std::vector<Entry> entries, const std::vector<std::int64_t>& vwgt)
 {
@@ -66,6 +42,32 @@ Graph rows_of(std::vector<Entry> entries, const std::vector<std::int64_t>& vwgt)
   for (std::int64_t v = 0; v < n; ++v) // rows without entries end where the previous one does
     g.xadj[v + 1] = std::max(g.xadj[v + 1], g.xadj[v]);
   return g;
+}
+
+// Alltoallv of per-rank buckets of T; returns what arrived, with the per-rank counts and where
+// each rank's block starts.
+template <typename T>
+std::vector<T> exchange(const std::vector<std::vector<T>>& out, MPI_Datatype type, MPI_Comm comm,
+                        std::vector<int>& rcount, std::vector<int>& rdisp)
+{
+  const int nranks = static_cast<int>(out.size());
+  std::vector<int> scount(nranks), sdisp(nranks);
+  rcount.assign(nranks, 0), rdisp.assign(nranks, 0);
+  std::vector<T> sbuf;
+  for (int p = 0; p < nranks; ++p) {
+    sdisp[p] = static_cast<int>(sbuf.size()), scount[p] = static_cast<int>(out[p].size());
+    sbuf.insert(sbuf.end(), out[p].begin(), out[p].end());
+  }
+  MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int p = 0; p < nranks; ++p)
+    rdisp[p] = total, total += rcount[p];
+  std::vector<T> rbuf(std::max(total, 1));
+  sbuf.resize(std::max<std::size_t>(sbuf.size(), 1));
+  MPI_Alltoallv(sbuf.data(), scount.data(), sdisp.data(), type, rbuf.data(), rcount.data(),
+                rdisp.data(), type, comm);
+  rbuf.resize(total);
+  return rbuf;
 }
 
 } // namespace
@@ -114,7 +116,8 @@ DistributedGraph build_distributed_graph(const DistributedShare& share,
     else
       out[owner].insert(out[owner].end(), {b, first + a, w});
   }
-  const std::vector<std::int64_t> in = exchange_crossing(out, comm);
+  std::vector<int> rcount, rdisp;
+  const std::vector<std::int64_t> in = exchange(out, MPI_INT64_T, comm, rcount, rdisp);
   for (std::size_t k = 0; k + 2 < in.size(); k += 3)
     entries.push_back({in[k] - first, in[k + 1], in[k + 2]});
   g.local = rows_of(std::move(entries), share.vwgt);
@@ -171,6 +174,39 @@ double distributed_imbalance(const std::vector<int>& part, const std::vector<dou
     mine[part[v]] += load[v];
   MPI_Allreduce(mine.data(), all.data(), nparts, MPI_DOUBLE, MPI_SUM, comm);
   return imbalance(all);
+}
+
+double distributed_edge_cut(const DistributedGraph& g, const std::vector<int>& part, MPI_Comm comm)
+{
+  const int nranks = static_cast<int>(g.vtxdist.size()) - 1;
+  const std::int64_t first = g.first(), last = g.vtxdist[g.rank + 1];
+  std::vector<std::vector<std::int64_t>> asks(nranks);
+  for (std::int64_t u : g.local.adjncy)
+    if (u < first || u >= last) asks[owner_of(g.vtxdist, u)].push_back(u);
+  std::map<std::int64_t, int> remote; // global number -> its part
+  for (auto& a : asks) {
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
+  }
+  std::vector<int> qcount, qdisp, acount, adisp;
+  const std::vector<std::int64_t> asked = exchange(asks, MPI_INT64_T, comm, qcount, qdisp);
+  std::vector<std::vector<int>> answers(nranks);
+  for (int p = 0; p < nranks; ++p)
+    for (int k = qdisp[p]; k < qdisp[p] + qcount[p]; ++k)
+      answers[p].push_back(part[asked[k] - first]);
+  const std::vector<int> parts = exchange(answers, MPI_INT, comm, acount, adisp);
+  for (int p = 0; p < nranks; ++p)
+    for (std::size_t k = 0; k < asks[p].size(); ++k)
+      remote[asks[p][k]] = parts[adisp[p] + k];
+  double mine = 0, sum = 0;
+  for (std::size_t v = 0; v + 1 < g.local.xadj.size(); ++v)
+    for (std::int64_t e = g.local.xadj[v]; e < g.local.xadj[v + 1]; ++e) {
+      const std::int64_t u = g.local.adjncy[e];
+      const int pu = u >= first && u < last ? part[u - first] : remote[u];
+      if (pu != part[v]) mine += static_cast<double>(g.local.adjwgt[e]);
+    }
+  MPI_Allreduce(&mine, &sum, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return sum / 2;
 }
 
 } // namespace fracdem::balance

@@ -56,6 +56,11 @@ GraphTotals graph_totals(const DistributedGraph& g, MPI_Comm comm);
 std::vector<int> distributed_labels(const std::vector<int>& part, const std::vector<double>& load,
                                     int nparts, MPI_Comm comm);
 
+// Sum of the weights of edges whose ends lie in different parts: the parts of other ranks'
+// neighbours are asked of their owners (one MPI_Alltoall of counts, two MPI_Alltoallv: the
+// numbers asked, the parts answered).
+double distributed_edge_cut(const DistributedGraph& g, const std::vector<int>& part, MPI_Comm comm);
+
 // max/avg of the parts' loads (one MPI_Allreduce of nparts numbers).
 double distributed_imbalance(const std::vector<int>& part, const std::vector<double>& load,
                              int nparts, MPI_Comm comm);

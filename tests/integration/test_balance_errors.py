@@ -25,7 +25,8 @@ cases = [
     ("fix bal all balance/graph 10 1.1 cost guess",
      "keyword 'cost': expected counts, calibrated, timed or fitted"),
     ("fix bal all balance/graph 10 1.1 partitioner chaco",
-     "keyword 'partitioner': expected metis or scotch or rcb or layers or ptscotch"),
+     "keyword 'partitioner': expected metis or scotch or rcb or layers or ptscotch or zoltan-phg "
+     "or zoltan-graph"),
     ("fix bal all balance/graph 10 1.1 partitioner layers cells 0",
      "keyword 'partitioner layers' cuts the cell grid by coordinates and needs cells"),
     ("fix bal all balance/graph 10 1.1 partitioner scotch repartition refine",

@@ -1,32 +1,32 @@
-"""`partitioner ptscotch`: the balancing graph stays distributed, and the counts show it scale.
+"""The distributed partitioners (`partitioner ptscotch`, `zoltan-graph`, `zoltan-phg`): the
+balancing graph stays distributed, and the counts of the partition step.
 
-0. The keyword is accepted; in a build without PT-Scotch it is refused naming libptscotch-dev,
-   and the rest is skipped (saying so).
-1. `fracdem_partition_check` (tests/support/distributed_partition_check.cpp) at 4 ranks, cells
-   handed out shuffled, and at 3 ranks in slabs: a grid graph listed in pieces is made symmetric
-   (edge count and merged weights exact), PT-Scotch's partition is balanced within 1.05, its
-   reported edge cut and imbalance equal those recomputed on the gathered graph, its cut at most
-   1.5 x METIS's on the same graph, and an impossible request fails on all ranks naming the rank
-   count and graph size.
-2. Counts (PMPI counter, oversubscribed): the settling bed widened to ~4000 spheres
-   (inputs/in.balance_bed, L = 0.2376), repartitioned at every check (thresh 1.0), counted over
-   steps SHORT..LONG (the difference of two runs: the first repartition from the stock slabs,
-   whose graph is as unbalanced as the slabs, is left out), at 4, 8 and 16 ranks. The partition
-   step is every call issued by fix balance/graph's code (namespace fracdem::balance included)
-   and by PT-Scotch's library; per repartition and rank:
+0. Each keyword is accepted; in a build without its engine it is refused naming the package to
+   install (libptscotch-dev, libtrilinos-zoltan-dev), and that engine's checks are skipped.
+1. `fracdem_partition_check` (tests/support/distributed_partition_check.cpp) per engine, with the
+   cells handed out shuffled or in slabs: a grid graph listed in pieces is made symmetric (edge
+   count and merged weights exact), the partition is balanced within 1.05, its reported edge cut
+   and imbalance equal those recomputed on the gathered graph, its cut at most 1.5 x METIS's on
+   the same graph (zoltan-phg, which minimises the hypergraph's connectivity, 3 x), and an
+   impossible request fails on all ranks naming the rank count and graph size.
+2. Counts (PMPI counter, oversubscribed) for ptscotch and zoltan-graph: the settling bed widened
+   to 3888 spheres (inputs/in.balance_bed, L = 0.2376), repartitioned at every check (thresh
+   1.0), counted over steps SHORT..LONG (the difference of two runs: the first repartition from
+   the stock slabs, whose graph is as unbalanced as the slabs, is left out), at 4, 8 and 16
+   ranks. The partition step is every call issued by fix balance/graph's code (namespace
+   fracdem::balance included) and by the engine's library; per repartition and rank:
    * fracdem's own gathering collectives (gather, allgather, broadcast, scatter) carry only
-     per-rank metadata (vertex ranges, part overlaps): at most 256 P + 256 bytes per rank (16 bytes per new part a rank's
-     particles fall into, from every rank), against
-     the gathered path's rank 0 that receives the whole graph (`partitioner metis cells 0`,
-     reported: the contrast);
-   * fracdem's own traffic per rank (the edges that cross into a rank, the labels, the
-     prediction) does not grow with P: at most 1.1 x the 4-rank figure;
-   * no rank receives more than 3 x the average (collectives and point to point, PT-Scotch's
+     per-rank metadata (vertex ranges, part overlaps): at most 256 P + 256 bytes per rank (16
+     bytes per new part a rank's particles fall into, from every rank), against the gathered
+     path's rank 0 that receives the whole graph (`partitioner metis cells 0`: the contrast);
+   * fracdem's own traffic per rank (the edges that cross into a rank, labels, prediction, the
+     ghosts' parts) does not grow with P: at most 1.1 x the 4-rank figure;
+   * no rank receives more than 3 x the average (collectives and point to point, the engine's
      included), where the gathered path's rank 0 receives more than 3 x;
-   * PT-Scotch's own traffic per rank grows at most like log2 P (its recursive bisection has
-     log2 P levels, each gathering a coarsest graph of bounded size on the ranks of that level):
-     at most (log2 P / 2) x 1.5 x the 4-rank figure. It does not fall as 1/P on a bed this size:
-     docs/fix_balance_graph.md gives the figures;
+   * the engine's own traffic per rank grows at most like log2 P (recursive bisection has log2 P
+     levels, each gathering a coarsest graph of bounded size): at most (log2 P / 2) x 1.5 x the
+     4-rank figure. Neither engine's falls as 1/P on a bed this size: docs/fix_balance_graph.md
+     gives the figures;
    * the particles are conserved and each is owned once: the thermo's atom count, sum of ids and
      sum of squared ids equal n, n(n+1)/2 and n(n+1)(2n+1)/6 at every output.
 3. Quality against the gathered partitioner on the same bed and window: mean edge cut at most
@@ -55,31 +55,37 @@ SHORT, LONG = 100, 250
 BED = dict(every=50, thresh=1.0, cost="counts", model="aposteriori", L=0.2376)
 
 
-def check_program():
+ENGINES = {"ptscotch": ("PT-Scotch", "libptscotch-dev", "scotch"),
+           "zoltan-graph": ("Zoltan", "libtrilinos-zoltan-dev", "zoltan"),
+           "zoltan-phg": ("Zoltan", "libtrilinos-zoltan-dev", "zoltan")}
+COUNTED = ("ptscotch", "zoltan-graph")  # zoltan-phg: the check program only (cut: another measure)
+
+
+def check_program(engine):
     for np_, layout in ((4, "scrambled"), (3, "slabs")):
-        r = subprocess.run(h.mpirun(np_) + [CHECK, "16", layout], stdout=subprocess.PIPE,
+        r = subprocess.run(h.mpirun(np_) + [CHECK, "16", layout, engine], stdout=subprocess.PIPE,
                            stderr=subprocess.STDOUT, text=True, timeout=300)
         print(r.stdout[-3000:])
         h.check(r.returncode == 0 and f"partition_check ok ranks={np_}" in r.stdout,
-                f"fracdem_partition_check at {np_} ranks ({layout}) passes")
+                f"fracdem_partition_check {engine} at {np_} ranks ({layout}) passes")
 
 
 GATHERING = ("MPI_Gather", "MPI_Gatherv", "MPI_Allgather", "MPI_Allgatherv", "MPI_Bcast",
              "MPI_Scatter", "MPI_Scatterv")
 
 
-def partition_sites(diff):
+def partition_sites(diff, library):
     """Per rank, bytes of the partition step: fracdem's gathering collectives (sent + received),
-    fracdem's traffic of any kind, PT-Scotch's, and all bytes received (collectives and point to
-    point)."""
+    fracdem's traffic of any kind, the engine's (calls from a module whose name holds `library`),
+    and all bytes received (collectives and point to point)."""
     exe = os.path.basename(diff["exe"])
-    out = dict(gathering=0, own=0, scotch=0, received=0)
+    out = dict(gathering=0, own=0, engine=0, received=0)
     for (module, caller, func, cat), (_count, nbytes) in diff["sites"].items():
         own = module == exe and mpicount.owner_class(caller) == "FixBalanceGraph"
-        scotch = "scotch" in module
-        if not (own or scotch) or cat in ("wait", "comm"):
+        engine = library is not None and library in module
+        if not (own or engine) or cat in ("wait", "comm"):
             continue
-        out["own" if own else "scotch"] += nbytes
+        out["own" if own else "engine"] += nbytes
         if own and func in GATHERING and cat in ("coll", "crecv"):
             out["gathering"] += nbytes
         if cat in ("crecv", "recv"):
@@ -112,7 +118,9 @@ def measure(np_, partitioner):
     rows = [k for k, s in enumerate(csv["step"]) if SHORT < s <= LONG and csv["repartitioned"][k]]
     nrep = len(rows)
     h.check(nrep >= 2, f"{partitioner}, {np_} ranks: {nrep} repartitions in steps {SHORT}..{LONG}")
-    per_rank = [{k: v / max(nrep, 1) for k, v in partition_sites(d).items()} for d in w.diffs]
+    library = ENGINES[partitioner][2] if partitioner in ENGINES else None
+    per_rank = [{k: v / max(nrep, 1) for k, v in partition_sites(d, library).items()}
+                for d in w.diffs]
     owned_once([h.thermo_blocks(text) for text in w.texts], f"{partitioner}, {np_} ranks")
     quality = dict(cut=[csv["edge_cut"][k] for k in rows],
                    pred=[csv["predicted_imbalance"][k] for k in rows])
@@ -127,82 +135,89 @@ def summary(per_rank):
 
 def report(label, s):
     print(f"{label}, bytes per rank and repartition (worst rank): fracdem's gathering "
-          f"collectives {s['gathering']:.0f}, fracdem's traffic {s['own']:.0f}, PT-Scotch's "
-          f"{s['scotch']:.0f}; received worst {s['received']:.0f}, average "
+          f"collectives {s['gathering']:.0f}, fracdem's traffic {s['own']:.0f}, the engine's "
+          f"{s['engine']:.0f}; received worst {s['received']:.0f}, average "
           f"{s['received_avg']:.0f} ({s['received'] / max(s['received_avg'], 1):.2f} x)")
 
 
-def check_scaling(np_, s, g, base):
+def check_scaling(name, np_, s, g, base):
     h.check(s["gathering"] <= 256 * np_ + 256,
-            f"ptscotch, {np_} ranks: fracdem's gathering collectives carry metadata only: "
-            f"{s['gathering']:.0f} <= 256 P + 256 bytes per rank and repartition (gathered path's "
-            f"worst rank: {g['gathering']:.0f})")
+            f"{name}, {np_} ranks: fracdem's gathering collectives carry metadata only: "
+            f"{s['gathering']:.0f} <= 256 P + 256 bytes per rank and repartition (gathered "
+            f"path's worst rank: {g['gathering']:.0f})")
     h.check(s["received"] <= 3 * s["received_avg"],
-            f"ptscotch, {np_} ranks: no rank receives more than 3 x the average during a "
+            f"{name}, {np_} ranks: no rank receives more than 3 x the average during a "
             f"repartition ({s['received']:.0f} <= 3 x {s['received_avg']:.0f} bytes)")
-    h.check(g["received"] > 3 * g["received_avg"],
-            f"metis (gathered), {np_} ranks: rank 0 receives the whole graph, more than 3 x the "
-            f"average ({g['received']:.0f} > 3 x {g['received_avg']:.0f} bytes): the contrast")
     if np_ == 4:
         return
     h.check(s["own"] <= 1.1 * base["own"],
-            f"ptscotch: fracdem's traffic per rank and repartition does not grow with P: "
+            f"{name}: fracdem's traffic per rank and repartition does not grow with P: "
             f"{s['own']:.0f} at {np_} ranks <= 1.1 x {base['own']:.0f} (4 ranks)")
-    limit = math.log2(np_) / 2 * 1.5 * base["scotch"]
-    h.check(s["scotch"] <= limit,
-            f"ptscotch: PT-Scotch's traffic per rank and repartition grows at most like log2 P: "
-            f"{s['scotch']:.0f} at {np_} ranks <= (log2 {np_} / 2) x 1.5 x {base['scotch']:.0f} "
+    limit = math.log2(np_) / 2 * 1.5 * base["engine"]
+    h.check(s["engine"] <= limit,
+            f"{name}: the engine's traffic per rank and repartition grows at most like log2 P: "
+            f"{s['engine']:.0f} at {np_} ranks <= (log2 {np_} / 2) x 1.5 x {base['engine']:.0f} "
             f"(4 ranks) = {limit:.0f}")
 
 
-def check_quality(np_, q_dist, q_gath):
+def check_quality(name, np_, q_dist, q_gath):
     mean_d = sum(q_dist["cut"]) / len(q_dist["cut"])
     mean_g = sum(q_gath["cut"]) / len(q_gath["cut"])
-    print(f"{np_} ranks: edge cut ptscotch {q_dist['cut']}, metis {q_gath['cut']}; predicted B "
-          f"ptscotch {q_dist['pred']}, metis {q_gath['pred']}")
+    print(f"{np_} ranks: edge cut {name} {q_dist['cut']}, metis {q_gath['cut']}; predicted B "
+          f"{name} {q_dist['pred']}, metis {q_gath['pred']}")
     h.check(mean_d <= 1.5 * mean_g,
-            f"{np_} ranks: ptscotch's mean edge cut {mean_d:.0f} <= 1.5 x METIS's {mean_g:.0f} "
+            f"{np_} ranks: {name}'s mean edge cut {mean_d:.0f} <= 1.5 x METIS's {mean_g:.0f} "
             f"(gathered, same bed and window)")
     h.check(max(q_dist["pred"]) <= 1.05,
-            f"{np_} ranks: ptscotch's predicted imbalance at every repartition "
+            f"{np_} ranks: {name}'s predicted imbalance at every repartition "
             f"{max(q_dist['pred']):.3f} <= 1.05 (METIS: {max(q_gath['pred']):.3f})")
 
 
-def built_with_ptscotch():
-    """The keyword on one rank for no steps: accepted, or (a build without PT-Scotch) refused
-    naming the package to install; then the rest of this test does not apply."""
-    wd = tempfile.mkdtemp(prefix="ptscotch_probe_")
+def built_with(engine):
+    """The keyword on one rank for no steps: accepted, or (a build without the engine) refused
+    naming the package to install."""
+    label, package, _ = ENGINES[engine]
+    wd = tempfile.mkdtemp(prefix="engine_probe_")
     shutil.copy(BED_IN, wd)
     cmd = h.mpirun(1) + [args.exe, "-echo", "none", "-in", os.path.basename(BED_IN), "-var",
-                         "steps", "0", "-var", "cover", "partitioner ptscotch"]
+                         "steps", "0", "-var", "cover", f"partitioner {engine}"]
     r = subprocess.run(cmd, cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                        errors="replace", timeout=300)
-    if "this build has no PT-Scotch" not in r.stdout:
+    if f"this build has no {label}" not in r.stdout:
         ok = r.returncode == 0 and "ERROR" not in r.stdout
-        h.check(ok, "'partitioner ptscotch' is accepted by this build" +
+        h.check(ok, f"'partitioner {engine}' is accepted by this build" +
                 ("" if ok else f":\n{r.stdout[-2000:]}"))
         return True
-    h.check("libptscotch-dev" in r.stdout and r.returncode != 0,
-            "a build without PT-Scotch refuses 'partitioner ptscotch' naming libptscotch-dev")
-    print("note: this build has no PT-Scotch: the distributed partitioner's checks are skipped")
+    h.check(package in r.stdout and r.returncode != 0,
+            f"a build without {label} refuses 'partitioner {engine}' naming {package}")
+    print(f"note: this build has no {label}: the checks of partitioner {engine} are skipped")
     return False
 
 
-if not built_with_ptscotch():
-    sys.exit(0)
-check_program()
-base, elapsed = None, 0.0
-for np_ in (4, 8, 16):
-    if np_ == 16 and elapsed * 1.6 > 110:
+engines = [e for e in ENGINES if built_with(e)]
+for e in engines:
+    check_program(e)
+counted = [e for e in COUNTED if e in engines]
+bases, elapsed = {}, 0.0
+for np_ in (4, 8, 16) if counted else ():
+    if np_ == 16 and elapsed * 2.5 > 100:
         print(f"note: 16 ranks skipped: 4 and 8 ranks took {elapsed:.0f} s")
         break
-    dist, q_dist, t1 = measure(np_, "ptscotch")
-    gath, q_gath, t2 = measure(np_, "metis cells 0")
-    elapsed += t1 + t2
-    s, g = summary(dist), summary(gath)
-    base = base or s
-    report(f"ptscotch, {np_} ranks", s)
+    gath, q_gath, t = measure(np_, "metis cells 0")
+    g = summary(gath)
     report(f"metis (gathered), {np_} ranks", g)
-    print(f"time: {np_} ranks {t1:.1f} s (ptscotch) + {t2:.1f} s (metis)")
-    check_scaling(np_, s, g, base)
-    check_quality(np_, q_dist, q_gath)
+    h.check(g["received"] > 3 * g["received_avg"],
+            f"metis (gathered), {np_} ranks: rank 0 receives the whole graph, more than 3 x the "
+            f"average ({g['received']:.0f} > 3 x {g['received_avg']:.0f} bytes): the contrast")
+    times = [f"{t:.1f} s (metis)"]
+    for e in counted:
+        dist, q_dist, te = measure(np_, e)
+        s = summary(dist)
+        bases.setdefault(e, s)
+        report(f"{e}, {np_} ranks", s)
+        check_scaling(e, np_, s, g, bases[e])
+        check_quality(e, np_, q_dist, q_gath)
+        t += te
+        times.append(f"{te:.1f} s ({e})")
+    elapsed += t
+    print(f"time: {np_} ranks " + " + ".join(times))

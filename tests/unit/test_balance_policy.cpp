@@ -148,16 +148,17 @@ TEST(PartitionStrategy, TableRejectsAnUnknownPartitionerByName)
   EXPECT_TRUE(find_partitioner("ptscotch").distributed);
   EXPECT_FALSE(find_partitioner("metis").distributed);
   EXPECT_STREQ(find_partitioner("ptscotch").package, "libptscotch-dev");
+  EXPECT_TRUE(find_partitioner("zoltan-phg").distributed);
+  EXPECT_EQ(find_partitioner("zoltan-graph").id, Partitioner::ZoltanGraph);
+  const char* expected = "keyword 'partitioner': expected metis or scotch or rcb or layers or "
+                         "ptscotch or zoltan-phg or zoltan-graph, got 'chaco'";
   try {
     find_partitioner("chaco");
     FAIL() << "an unknown partitioner was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "keyword 'partitioner': expected metis or scotch or rcb or layers or "
-                           "ptscotch, got 'chaco'");
+    EXPECT_STREQ(e.what(), expected);
   }
-  EXPECT_EQ(
-      spec_error({"10", "1.1", "partitioner", "chaco"}),
-      "keyword 'partitioner': expected metis or scotch or rcb or layers or ptscotch, got 'chaco'");
+  EXPECT_EQ(spec_error({"10", "1.1", "partitioner", "chaco"}), expected);
 }
 
 // The strategy is the partitioners' own calls in a fixed order: `scratch` with METIS is METIS

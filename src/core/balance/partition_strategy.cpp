@@ -21,6 +21,8 @@ const PartitionerInfo kPartitioners[] = {
     {"rcb", Partitioner::Rcb, true, false, false, ""},
     {"layers", Partitioner::Layers, true, false, false, ""},
     {"ptscotch", Partitioner::PtScotch, false, true, true, "libptscotch-dev"},
+    {"zoltan-phg", Partitioner::ZoltanPhg, false, true, true, "libtrilinos-zoltan-dev"},
+    {"zoltan-graph", Partitioner::ZoltanGraph, false, true, true, "libtrilinos-zoltan-dev"},
 };
 
 } // namespace

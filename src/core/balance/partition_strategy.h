@@ -13,7 +13,7 @@
 namespace fracdem::balance
 {
 
-enum class Partitioner { Metis, Scotch, Rcb, Layers, PtScotch };
+enum class Partitioner { Metis, Scotch, Rcb, Layers, PtScotch, ZoltanPhg, ZoltanGraph };
 // `repartition`: diffusion from the current owners, a partition from scratch, or by imbalance.
 enum class Strategy { Auto, Refine, Scratch };
 
@@ -33,7 +33,8 @@ struct PartitionerInfo {
 };
 
 // The partitioner named `name`; else throws std::invalid_argument "keyword 'partitioner':
-// expected metis or scotch or rcb or layers or ptscotch, got 'NAME'".
+// expected metis or scotch or rcb or layers or ptscotch or zoltan-phg or zoltan-graph, got
+// 'NAME'".
 const PartitionerInfo& find_partitioner(const std::string& name);
 const PartitionerInfo& partitioner_info(Partitioner p);
 
