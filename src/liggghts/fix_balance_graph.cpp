@@ -499,8 +499,10 @@ fb::DistributedShare FixBalanceGraph::distributed_share(const Measured& m,
                                                         const std::vector<std::int64_t>& weight,
                                                         std::int64_t first)
 {
+  // Sized to the per-atom arrays: an insertion fix earlier in this pre_exchange resets nghost,
+  // while the forward communication still fills the ghost slots of the last borders.
   const int nlocal = atom->nlocal, nall = atom->nlocal + atom->nghost;
-  vertex_number_.assign(std::max(nall, 1), -1.0);
+  vertex_number_.assign(std::max({nall, atom->nmax, 1}), -1.0);
   for (int i = 0; i < nlocal; ++i)
     vertex_number_[i] = static_cast<double>(first + i);
   comm->forward_comm_fix(this);

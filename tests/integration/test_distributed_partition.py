@@ -28,7 +28,8 @@ balancing graph stays distributed, and the counts of the partition step.
      4-rank figure. Neither engine's falls as 1/P on a bed this size: docs/fix_balance_graph.md
      gives the figures;
    * the particles are conserved and each is owned once: the thermo's atom count, sum of ids and
-     sum of squared ids equal n, n(n+1)/2 and n(n+1)(2n+1)/6 at every output.
+     sum of squared ids equal n, n(n+1)/2 and n(n+1)(2n+1)/6 at every output (also at 3 ranks
+     with particles inserted while balancing, for each engine).
 3. Quality against the gathered partitioner on the same bed and window: mean edge cut at most
    1.5 x METIS's, and every predicted imbalance at most 1.05 (METIS's for reference).
 """
@@ -194,9 +195,27 @@ def built_with(engine):
     return False
 
 
+def check_insertion(engine, np_=3):
+    """Insertion while balancing (inputs/in.balance_bed, insert 1): the insertion fix runs in the
+    same pre_exchange, before the fix, and resets the ghost count; the ghosts' vertex numbers
+    still arrive and every particle stays owned once."""
+    wd = tempfile.mkdtemp(prefix="engine_insert_")
+    shutil.copy(BED_IN, wd)
+    text = h.run(args.exe, os.path.basename(BED_IN), np_, wd,
+                 dict(every=50, thresh=1.0, cost="counts", steps=400, insert=1,
+                      cover=f"partitioner {engine}"))
+    reps = text.count("repartitioned")
+    h.check(reps >= 2, f"{engine}, {np_} ranks, inserting: {reps} repartitions")
+    owned_once([h.thermo_blocks(text)], f"{engine}, {np_} ranks, inserting")
+    n = h.column(h.thermo_blocks(text), "Atoms")
+    h.check(n[-1] > n[0], f"{engine}: particles were inserted ({n[0]:.0f} -> {n[-1]:.0f})")
+
+
 engines = [e for e in ENGINES if built_with(e)]
 for e in engines:
     check_program(e)
+for e in engines:
+    check_insertion(e)
 counted = [e for e in COUNTED if e in engines]
 bases, elapsed = {}, 0.0
 for np_ in (4, 8, 16) if counted else ():
