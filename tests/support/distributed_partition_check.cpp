@@ -171,6 +171,23 @@ void check_whole(const Whole& w, const fb::DistributedResult& r, std::int64_t n,
                                            std::to_string(metis_cut) + " on the gathered graph");
 }
 
+// The result against the gathered graph (rank 0), and the share of the weight that stays.
+void check_result(const fb::DistributedGraph& g, const fb::DistributedResult& r, std::int64_t n,
+                  const std::string& engine)
+{
+  const int me = g.rank, nranks = static_cast<int>(g.vtxdist.size()) - 1;
+  double sums[2] = {0, 0}, all[2];
+  for (std::size_t v = 0; v < r.part.size(); ++v)
+    sums[0] += (r.part[v] == me) * g.local.vwgt[v], sums[1] += g.local.vwgt[v];
+  MPI_Reduce(sums, all, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  const Whole w = gather_whole(g, r.part, MPI_COMM_WORLD);
+  if (me != 0) return;
+  // zoltan-phg minimises the nets' connectivity (the ghost copies of the hypergraph Zoltan
+  // builds from the graph, one net per vertex and its neighbours), not the edge cut.
+  check_whole(w, r, n, nranks, engine == "zoltan-phg" ? 3.0 : 1.5);
+  std::printf("weight kept on its rank: %.3f\n", all[0] / all[1]);
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -187,20 +204,7 @@ int main(int argc, char** argv)
       fb::build_distributed_graph(make_share(l, n, me), l.vtxdist, MPI_COMM_WORLD);
   const fb::DistributedResult r = partition(engine, g, nranks, 1.02);
   if (me == 0 && r.failed) check(false, engine + " partitioned: " + r.failure);
-  if (!r.failed) {
-    double kept = 0, total = 0;
-    for (std::size_t v = 0; v < r.part.size(); ++v)
-      kept += (r.part[v] == me) * g.local.vwgt[v], total += g.local.vwgt[v];
-    double sums[2] = {kept, total}, all[2];
-    MPI_Reduce(sums, all, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-    const Whole w = gather_whole(g, r.part, MPI_COMM_WORLD);
-    if (me == 0) {
-      // zoltan-phg minimises the nets' connectivity (the ghost copies of the hypergraph Zoltan
-      // builds from the graph, one net per vertex and its neighbours), not the edge cut.
-      check_whole(w, r, n, nranks, engine == "zoltan-phg" ? 3.0 : 1.5);
-      std::printf("weight kept on its rank: %.3f\n", all[0] / all[1]);
-    }
-  }
+  if (!r.failed) check_result(g, r, n, engine);
   // A failure is agreed by all ranks and names the rank count and graph size.
   const fb::DistributedResult bad = partition(engine, g, nranks, 0.5);
   if (me == 0)
