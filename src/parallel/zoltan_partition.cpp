@@ -97,9 +97,9 @@ void set_parameters(Zoltan_Struct* zz, int nparts, double tolerance, bool hyperg
       {"IMBALANCE_TOL", std::to_string(tolerance)},
       {"CHECK_GRAPH", "0"},
       {"PHG_RANDOMIZE_INPUT", "0"},
-      // PHG minimises multiplier x edge cut + particles moved. Zoltan's default 100 moved a
-      // quarter to most of the particles at repartitions of parts already within 2 % on the
-      // settling bed; 1 moves a few per cent for the same cut.
+      // PHG minimises multiplier x edge cut + particles moved. Zoltan's default (100) prices a
+      // cut edge so far above a move that parts already within the tolerance get reshuffled;
+      // 1 weighs a cut edge of unit weight like one particle moved.
       {"PHG_REPART_MULTIPLIER", "1"},
   };
   for (const auto& p : params)
