@@ -7,8 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBS=(liggghts libliggghts-dev openmpi-bin libopenmpi-dev libmetis-dev libscotch-dev libvtk9-dev
-      libgtest-dev cmake g++ make python3-vtk9 lammps)
+DEBS=(liggghts libliggghts-dev openmpi-bin libopenmpi-dev libmetis-dev libscotch-dev libptscotch-dev
+      libtrilinos-zoltan-dev libvtk9-dev libgtest-dev cmake g++ make python3-vtk9 lammps)
 missing=()
 for p in "${DEBS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <string>
 
 #include "atom.h"
 #include "balance/gathered_graph.h"
+#include "ptscotch_partition.h"
+#include "zoltan_partition.h"
 #include "comm.h"
 #include "comm_graph.h"
 #include "domain.h"
@@ -33,6 +36,26 @@ namespace fb = fracdem::balance;
 namespace
 {
 
+// The distributed partitioners' engines: whether this build has them, and the call.
+const char* engine(fb::Partitioner p)
+{
+  return p == fb::Partitioner::PtScotch ? "PT-Scotch" : "Zoltan";
+}
+
+bool built_with(fb::Partitioner p)
+{
+  return p == fb::Partitioner::PtScotch ? fb::have_ptscotch() : fb::have_zoltan();
+}
+
+fb::DistributedResult partition_distributed(fb::Partitioner p, const fb::DistributedGraph& g,
+                                            int nparts, MPI_Comm comm)
+{
+  if (p == fb::Partitioner::PtScotch)
+    return fb::partition_ptscotch(g, nparts, fb::kDistributedTolerance, comm);
+  return fb::partition_zoltan(g, nparts, fb::kDistributedTolerance,
+                              p == fb::Partitioner::ZoltanPhg, comm);
+}
+
 double thread_cpu_seconds()
 {
   timespec ts;
@@ -47,6 +70,12 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
       trigger_{spec_.threshold}, pricing_(spec_.cost_model, start_costs()),
       strategy_(spec_.partitioner, spec_.strategy)
 {
+  const fb::PartitionerInfo& partitioner = fb::partitioner_info(spec_.partitioner);
+  if (partitioner.distributed && !built_with(partitioner.id))
+    fail(std::string("keyword 'partitioner ") + partitioner.name + "': this build has no " +
+         engine(partitioner.id) + "; install the Debian package " + partitioner.package +
+         " (apt-get install --no-install-recommends " + partitioner.package +
+         ") and rebuild fracdem, or choose another partitioner");
   if (!spec_.out_file.empty() && comm->me == 0) {
     out_ = fopen(spec_.out_file.c_str(), "w");
     if (!out_) fail("keyword 'out': cannot open '" + spec_.out_file + "' for writing");
@@ -64,6 +93,7 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
   peratom_flag = 1;
   size_peratom_cols = 0;
   peratom_freq = 1;
+  comm_forward = 1; // the distributed graph's vertex numbers, to ghosts
 }
 
 FixBalanceGraph::~FixBalanceGraph()
@@ -323,6 +353,7 @@ void FixBalanceGraph::count_pairs(Measured& m) const
   const bool newton = force->newton_pair != 0;
   const fb::EdgeWeights weights = fb::edge_weights(spec_.graph_model, pricing_.costs());
   const bool by_cell = spec_.cell_factor > 0;
+  const bool distributed = fb::partitioner_info(spec_.partitioner).distributed;
   for (int ii = 0; ii < list->inum; ++ii) {
     const int i = list->ilist[ii];
     if (i >= nlocal) continue;
@@ -340,6 +371,7 @@ void FixBalanceGraph::count_pairs(Measured& m) const
       const std::int64_t b = by_cell ? grid_.cell_of(x[j]) : tag[j];
       if (by_cell && a == b) continue; // inside one vertex
       m.edges.insert(m.edges.end(), {a, b, weights.of(touching)});
+      if (distributed) m.ends.insert(m.ends.end(), {i, j});
     }
   }
 }
@@ -384,19 +416,21 @@ void FixBalanceGraph::repartition(const Measured& m, const fb::RankWork& work, d
   const double mean_cost = n_all > 0 && work_sum > 0 ? work_sum / n_all : 1.0;
   const std::vector<std::int64_t> weight =
       fb::vertex_weights(spec_.graph_model, work.cost, m.counts.potential, mean_cost);
-  if (spec_.cell_factor > 0)
+  if (fb::partitioner_info(spec_.partitioner).distributed)
+    repartition_distributed(m, weight);
+  else if (spec_.cell_factor > 0)
     repartition_cells(m, weight);
   else
     repartition_particles(m, weight);
 }
 
 // A partitioner failure keeps the current owners, with a warning naming the failure.
-bool FixBalanceGraph::kept_owners(const fb::RootSolve& s) const
+bool FixBalanceGraph::kept_owners(bool failed, const std::string& failure) const
 {
-  if (s.failed && comm->me == 0)
-    error->warning(FLERR, ("fix balance/graph: partitioning failed, ownership kept: " + s.failure)
-                              .c_str());
-  return s.failed;
+  if (failed && comm->me == 0)
+    error->warning(FLERR,
+                   ("fix balance/graph: partitioning failed, ownership kept: " + failure).c_str());
+  return failed;
 }
 
 double FixBalanceGraph::sum_over_ranks(double mine) const
@@ -421,15 +455,81 @@ void FixBalanceGraph::repartition_particles(const Measured& m,
         return strategy_.partition(rg.g, rg.old_owner, comm->nprocs);
       },
       world);
-  if (kept_owners(s)) return;
-  std::vector<int> dest = fb::scatter_parts(s.result.part, gg, nlocal, world);
+  if (kept_owners(s.failed, s.failure)) return;
+  apply_destinations(fb::scatter_parts(s.result.part, gg, nlocal, world), s.result);
+}
+
+// Each particle is sent to the rank dest names at the exchange that follows.
+void FixBalanceGraph::apply_destinations(std::vector<int> dest, const fb::PartitionResult& r)
+{
   double migrated = 0;
-  for (int i = 0; i < nlocal; ++i)
+  for (int i = 0; i < atom->nlocal; ++i)
     migrated += dest[i] != comm->me;
   migrated = sum_over_ranks(migrated);
   comm_graph_->enable_graph_ownership("fix balance/graph");
   comm_graph_->set_destinations(std::move(dest));
-  record_repartition(s.result, migrated);
+  record_repartition(r, migrated);
+}
+
+// One vertex per particle, left on its rank: vertices numbered rank by rank, the ghosts' numbers
+// from their owners, and a partitioner that runs on all ranks; each rank learns the new owners
+// of its own particles only.
+void FixBalanceGraph::repartition_distributed(const Measured& m,
+                                              const std::vector<std::int64_t>& weight)
+{
+  std::vector<std::int64_t> vtxdist = fb::vertex_ranges(atom->nlocal, world);
+  const std::int64_t first = vtxdist[comm->me];
+  fb::DistributedGraph g;
+  try {
+    g = fb::build_distributed_graph(distributed_share(m, weight, first), std::move(vtxdist), world);
+  } catch (const std::exception& e) {
+    error->one(FLERR, (std::string("fix balance/graph: ") + e.what()).c_str());
+  }
+  const fb::DistributedResult r =
+      partition_distributed(spec_.partitioner, g, comm->nprocs, world);
+  if (kept_owners(r.failed, r.failure)) return;
+  fb::PartitionResult result;
+  result.predicted_imbalance = r.predicted_imbalance;
+  result.edge_cut = r.edge_cut;
+  apply_destinations(r.part, result);
+}
+
+// This rank's vertices (weights) and edges (local i, global number of j, weight).
+fb::DistributedShare FixBalanceGraph::distributed_share(const Measured& m,
+                                                        const std::vector<std::int64_t>& weight,
+                                                        std::int64_t first)
+{
+  // Sized to the per-atom arrays: an insertion fix earlier in this pre_exchange resets nghost,
+  // while the forward communication still fills the ghost slots of the last borders.
+  const int nlocal = atom->nlocal, nall = atom->nlocal + atom->nghost;
+  vertex_number_.assign(std::max({nall, atom->nmax, 1}), -1.0);
+  for (int i = 0; i < nlocal; ++i)
+    vertex_number_[i] = static_cast<double>(first + i);
+  comm->forward_comm_fix(this);
+  fb::DistributedShare share;
+  share.vwgt = weight;
+  share.edges.reserve(m.edges.size());
+  for (std::size_t e = 0; 2 * e + 1 < m.ends.size(); ++e) {
+    const double j = vertex_number_[m.ends[2 * e + 1]];
+    if (j < 0) continue; // a ghost the forward communication did not reach
+    share.edges.insert(share.edges.end(),
+                       {m.ends[2 * e], static_cast<std::int64_t>(j), m.edges[3 * e + 2]});
+  }
+  return share;
+}
+
+// Returns the values per atom, as LIGGGHTS's forward loop sizes its receives by it.
+int FixBalanceGraph::pack_comm(int n, int* list, double* buf, int, int*)
+{
+  for (int k = 0; k < n; ++k)
+    buf[k] = vertex_number_[list[k]];
+  return 1;
+}
+
+void FixBalanceGraph::unpack_comm(int n, int first, double* buf)
+{
+  for (int k = 0; k < n; ++k)
+    vertex_number_[first + k] = buf[k];
 }
 
 // Particles aggregated into cells: every cell of the box gets an owner (empty ones that of the
@@ -452,7 +552,7 @@ void FixBalanceGraph::repartition_cells(const Measured& m, const std::vector<std
         return r;
       },
       world);
-  if (kept_owners(s)) return;
+  if (kept_owners(s.failed, s.failure)) return;
   MPI_Bcast(owners.data(), static_cast<int>(grid_.total()), MPI_INT, 0, world);
   double migrated = 0;
   for (int i = 0; i < atom->nlocal; ++i)

@@ -15,6 +15,7 @@
 #include "balance/cost_pricing.h"
 #include "balance/partition_strategy.h"
 #include "balance_exchange.h"
+#include "distributed_graph.h"
 #include "fix.h"
 
 namespace LAMMPS_NS
@@ -36,6 +37,8 @@ public:
   void end_of_step() override;
   void pre_neighbor() override;
   void pre_force(int) override;
+  int pack_comm(int, int*, double*, int, int*) override;
+  void unpack_comm(int, int, double*) override;
   void post_force(int) override;
   double compute_scalar() override;
   double compute_vector(int) override;
@@ -48,6 +51,7 @@ private:
     fracdem::balance::WorkCounts counts;
     std::vector<std::int64_t> edges; // (tag_i, tag_j, weight) or (cell_i, cell_j, weight)
     std::vector<std::int64_t> cell;  // cell of each particle (cell graph only)
+    std::vector<int> ends;           // (i, j) host indices of each edge (distributed graph only)
   };
 
   fracdem::balance::BalanceSpec spec_;
@@ -70,6 +74,9 @@ private:
   double cpu_step_end_ = -1, cpu_after_force_ = -1;
   bool cpu_from_neighbor_ = false;
   std::vector<double> owner_rank_; // per-atom output: the rank that owns the particle
+  // Distributed graph: the global vertex number of each local and ghost particle (ghosts' from
+  // their owners by forward communication).
+  std::vector<double> vertex_number_;
 
   void fail(const std::string& msg) const; // "fix balance/graph: MSG" on all ranks
   void log(const std::string& line) const; // screen and log file (rank 0 calls it)
@@ -89,9 +96,13 @@ private:
   void repartition(const Measured& m, const fracdem::balance::RankWork& work, double work_sum);
   void repartition_particles(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_cells(const Measured& m, const std::vector<std::int64_t>& weight);
+  void repartition_distributed(const Measured& m, const std::vector<std::int64_t>& weight);
+  fracdem::balance::DistributedShare
+  distributed_share(const Measured& m, const std::vector<std::int64_t>& weight, std::int64_t first);
+  void apply_destinations(std::vector<int> dest, const fracdem::balance::PartitionResult& r);
   void note_layout(const std::string& layout);
   void record_repartition(const fracdem::balance::PartitionResult& r, double migrated);
-  bool kept_owners(const fracdem::balance::RootSolve& s) const;
+  bool kept_owners(bool failed, const std::string& failure) const;
   double sum_over_ranks(double mine) const;
   // partitioner layers: the axis of the gravity of fix gravity, never cut by a layout (-1: none).
   int gravity_axis() const;

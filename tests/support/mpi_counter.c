@@ -18,9 +18,11 @@
 #include <unistd.h>
 
 // What a wrapped call is: a point-to-point send, a receive post, a blocking completion (a wait
-// or probe: a latency on the caller's path), a collective, or communicator management.
-enum Category { CAT_SEND, CAT_RECV, CAT_WAIT, CAT_COLL, CAT_COMM, CAT_N };
-static const char* const kCategoryName[CAT_N] = {"send", "recv", "wait", "coll", "comm"};
+// or probe: a latency on the caller's path), a collective, or communicator management. A
+// collective is also recorded a second time as "crecv" with the bytes this rank receives from it
+// (the root of a gather all of them), so that a rank that collects more than the others shows.
+enum Category { CAT_SEND, CAT_RECV, CAT_WAIT, CAT_COLL, CAT_COMM, CAT_CRECV, CAT_N };
+static const char* const kCategoryName[CAT_N] = {"send", "recv", "wait", "coll", "comm", "crecv"};
 
 // One call site: a return address in some module, and the MPI function it called.
 typedef struct {
@@ -66,10 +68,10 @@ static int module_of(void* addr)
 
 static Site* site_of(void* addr, const char* func, int cat)
 {
-  uintptr_t h = ((uintptr_t)addr * 0x9E3779B97F4A7C15ull) ^ (uintptr_t)func;
+  uintptr_t h = ((uintptr_t)addr * 0x9E3779B97F4A7C15ull) ^ (uintptr_t)func ^ (uintptr_t)cat;
   for (int probe = 0; probe < kSiteSlots; ++probe) {
     Site* s = &g.sites[(h + probe) & (kSiteSlots - 1)];
-    if (s->addr == addr && s->func == func) return s;
+    if (s->addr == addr && s->func == func && s->cat == cat) return s;
     if (s->addr == NULL) {
       if (g.nsites * 2 > kSiteSlots) break; // keep probing short; count in the overflow site
       s->addr = addr, s->func = func, s->cat = cat, s->module = module_of(addr);
@@ -361,6 +363,31 @@ int MPI_Probe(int source, int tag, MPI_Comm comm, MPI_Status* status)
 // ---- collectives (bytes: this rank's contribution) --------------------------------------------
 
 #define COLL(name, bytes) record(CALLER, name, CAT_COLL, bytes)
+#define CRECV(name, bytes) record(CALLER, name, CAT_CRECV, bytes)
+
+static uint64_t sum_bytes(const int counts[], MPI_Datatype type, MPI_Comm comm)
+{
+  int n = 0;
+  uint64_t total = 0;
+  PMPI_Comm_size(comm, &n);
+  for (int i = 0; i < n; ++i)
+    total += bytes_of(counts[i], type);
+  return total;
+}
+
+static int rank_in(MPI_Comm comm)
+{
+  int r = 0;
+  PMPI_Comm_rank(comm, &r);
+  return r;
+}
+
+static int size_of(MPI_Comm comm)
+{
+  int n = 0;
+  PMPI_Comm_size(comm, &n);
+  return n;
+}
 
 int MPI_Barrier(MPI_Comm comm)
 {
@@ -377,6 +404,7 @@ int MPI_Ibarrier(MPI_Comm comm, MPI_Request* req)
 int MPI_Bcast(void* buf, int count, MPI_Datatype type, int root, MPI_Comm comm)
 {
   COLL("MPI_Bcast", bytes_of(count, type));
+  CRECV("MPI_Bcast", rank_in(comm) == root ? 0 : bytes_of(count, type));
   MPI_TIMED(PMPI_Bcast(buf, count, type, root, comm));
 }
 
@@ -384,6 +412,7 @@ int MPI_Reduce(const void* sbuf, void* rbuf, int count, MPI_Datatype type, MPI_O
                MPI_Comm comm)
 {
   COLL("MPI_Reduce", bytes_of(count, type));
+  CRECV("MPI_Reduce", rank_in(comm) == root ? bytes_of(count, type) : 0);
   MPI_TIMED(PMPI_Reduce(sbuf, rbuf, count, type, op, root, comm));
 }
 
@@ -391,6 +420,7 @@ int MPI_Allreduce(const void* sbuf, void* rbuf, int count, MPI_Datatype type, MP
                   MPI_Comm comm)
 {
   COLL("MPI_Allreduce", bytes_of(count, type));
+  CRECV("MPI_Allreduce", bytes_of(count, type));
   MPI_TIMED(PMPI_Allreduce(sbuf, rbuf, count, type, op, comm));
 }
 
@@ -398,18 +428,21 @@ int MPI_Iallreduce(const void* sbuf, void* rbuf, int count, MPI_Datatype type, M
                    MPI_Comm comm, MPI_Request* req)
 {
   COLL("MPI_Iallreduce", bytes_of(count, type));
+  CRECV("MPI_Iallreduce", bytes_of(count, type));
   MPI_TIMED(PMPI_Iallreduce(sbuf, rbuf, count, type, op, comm, req));
 }
 
 int MPI_Scan(const void* sbuf, void* rbuf, int count, MPI_Datatype type, MPI_Op op, MPI_Comm comm)
 {
   COLL("MPI_Scan", bytes_of(count, type));
+  CRECV("MPI_Scan", bytes_of(count, type));
   MPI_TIMED(PMPI_Scan(sbuf, rbuf, count, type, op, comm));
 }
 
 int MPI_Exscan(const void* sbuf, void* rbuf, int count, MPI_Datatype type, MPI_Op op, MPI_Comm comm)
 {
   COLL("MPI_Exscan", bytes_of(count, type));
+  CRECV("MPI_Exscan", bytes_of(count, type));
   MPI_TIMED(PMPI_Exscan(sbuf, rbuf, count, type, op, comm));
 }
 
@@ -417,6 +450,8 @@ int MPI_Gather(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf, int
                MPI_Datatype rtype, int root, MPI_Comm comm)
 {
   COLL("MPI_Gather", bytes_of(scount, stype));
+  CRECV("MPI_Gather",
+        rank_in(comm) == root ? bytes_of(rcount, rtype) * (uint64_t)size_of(comm) : 0);
   MPI_TIMED(PMPI_Gather(sbuf, scount, stype, rbuf, rcount, rtype, root, comm));
 }
 
@@ -424,6 +459,7 @@ int MPI_Gatherv(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf, co
                 const int displs[], MPI_Datatype rtype, int root, MPI_Comm comm)
 {
   COLL("MPI_Gatherv", bytes_of(scount, stype));
+  CRECV("MPI_Gatherv", rank_in(comm) == root ? sum_bytes(rcounts, rtype, comm) : 0);
   MPI_TIMED(PMPI_Gatherv(sbuf, scount, stype, rbuf, rcounts, displs, rtype, root, comm));
 }
 
@@ -431,6 +467,7 @@ int MPI_Scatter(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf, in
                 MPI_Datatype rtype, int root, MPI_Comm comm)
 {
   COLL("MPI_Scatter", bytes_of(rcount, rtype));
+  CRECV("MPI_Scatter", bytes_of(rcount, rtype));
   MPI_TIMED(PMPI_Scatter(sbuf, scount, stype, rbuf, rcount, rtype, root, comm));
 }
 
@@ -438,6 +475,7 @@ int MPI_Scatterv(const void* sbuf, const int scounts[], const int displs[], MPI_
                  void* rbuf, int rcount, MPI_Datatype rtype, int root, MPI_Comm comm)
 {
   COLL("MPI_Scatterv", bytes_of(rcount, rtype));
+  CRECV("MPI_Scatterv", bytes_of(rcount, rtype));
   MPI_TIMED(PMPI_Scatterv(sbuf, scounts, displs, stype, rbuf, rcount, rtype, root, comm));
 }
 
@@ -445,6 +483,7 @@ int MPI_Allgather(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf, 
                   MPI_Datatype rtype, MPI_Comm comm)
 {
   COLL("MPI_Allgather", bytes_of(scount, stype));
+  CRECV("MPI_Allgather", bytes_of(rcount, rtype) * (uint64_t)size_of(comm));
   MPI_TIMED(PMPI_Allgather(sbuf, scount, stype, rbuf, rcount, rtype, comm));
 }
 
@@ -452,17 +491,8 @@ int MPI_Allgatherv(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf,
                    const int rcounts[], const int displs[], MPI_Datatype rtype, MPI_Comm comm)
 {
   COLL("MPI_Allgatherv", bytes_of(scount, stype));
+  CRECV("MPI_Allgatherv", sum_bytes(rcounts, rtype, comm));
   MPI_TIMED(PMPI_Allgatherv(sbuf, scount, stype, rbuf, rcounts, displs, rtype, comm));
-}
-
-static uint64_t sum_bytes(const int counts[], MPI_Datatype type, MPI_Comm comm)
-{
-  int n = 0;
-  uint64_t total = 0;
-  PMPI_Comm_size(comm, &n);
-  for (int i = 0; i < n; ++i)
-    total += bytes_of(counts[i], type);
-  return total;
 }
 
 int MPI_Alltoall(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf, int rcount,
@@ -471,6 +501,7 @@ int MPI_Alltoall(const void* sbuf, int scount, MPI_Datatype stype, void* rbuf, i
   int n = 0;
   PMPI_Comm_size(comm, &n);
   COLL("MPI_Alltoall", bytes_of(scount, stype) * (uint64_t)n);
+  CRECV("MPI_Alltoall", bytes_of(rcount, rtype) * (uint64_t)n);
   MPI_TIMED(PMPI_Alltoall(sbuf, scount, stype, rbuf, rcount, rtype, comm));
 }
 
@@ -479,6 +510,7 @@ int MPI_Alltoallv(const void* sbuf, const int scounts[], const int sdispls[], MP
                   MPI_Comm comm)
 {
   COLL("MPI_Alltoallv", sum_bytes(scounts, stype, comm));
+  CRECV("MPI_Alltoallv", sum_bytes(rcounts, rtype, comm));
   MPI_TIMED(PMPI_Alltoallv(sbuf, scounts, sdispls, stype, rbuf, rcounts, rdispls, rtype, comm));
 }
 
@@ -486,6 +518,7 @@ int MPI_Reduce_scatter(const void* sbuf, void* rbuf, const int rcounts[], MPI_Da
                        MPI_Op op, MPI_Comm comm)
 {
   COLL("MPI_Reduce_scatter", sum_bytes(rcounts, type, comm));
+  CRECV("MPI_Reduce_scatter", bytes_of(rcounts[rank_in(comm)], type));
   MPI_TIMED(PMPI_Reduce_scatter(sbuf, rbuf, rcounts, type, op, comm));
 }
 
@@ -493,6 +526,7 @@ int MPI_Reduce_scatter_block(const void* sbuf, void* rbuf, int rcount, MPI_Datat
                              MPI_Comm comm)
 {
   COLL("MPI_Reduce_scatter_block", bytes_of(rcount, type));
+  CRECV("MPI_Reduce_scatter_block", bytes_of(rcount, type));
   MPI_TIMED(PMPI_Reduce_scatter_block(sbuf, rbuf, rcount, type, op, comm));
 }
 

@@ -12,7 +12,7 @@ import json
 import os
 import subprocess
 
-CATS = ("send", "recv", "wait", "coll", "comm")
+CATS = ("send", "recv", "wait", "coll", "comm", "crecv")  # crecv: bytes received from collectives
 
 
 def mpirun_counted(np_, lib, prefix):

@@ -102,6 +102,42 @@ TEST(BalanceSpec, ErrorsNameTheKeywordAndWhatWasExpected)
             std::string::npos);
 }
 
+// partitioner ptscotch: one vertex per particle (cells left out means cells 0), no `repartition`.
+TEST(BalanceSpec, DistributedPartitionerKeepsParticleVertices)
+{
+  const BalanceSpec s = parse_balance_spec({"10", "1.1", "partitioner", "ptscotch"});
+  EXPECT_EQ(s.partitioner, Partitioner::PtScotch);
+  EXPECT_EQ(s.cell_factor, 0.0);
+  EXPECT_EQ(parse_balance_spec({"10", "1.1", "partitioner", "ptscotch", "cells", "0"}).cell_factor,
+            0.0);
+  EXPECT_NE(spec_error({"10", "1.1", "partitioner", "ptscotch", "cells", "2"})
+                .find("keyword 'partitioner ptscotch' partitions one vertex per particle"),
+            std::string::npos);
+  EXPECT_NE(spec_error({"10", "1.1", "partitioner", "ptscotch", "repartition", "scratch"})
+                .find("'partitioner ptscotch' partitions on all ranks in one call"),
+            std::string::npos);
+  // The default elsewhere is unchanged: cells two cutoffs wide.
+  EXPECT_EQ(parse_balance_spec({"10", "1.1", "partitioner", "metis"}).cell_factor, 2.0);
+}
+
+// The labels from an overlap table alone are those relabel_max_overlap gives from the vertices.
+TEST(PartitionStrategy, OverlapLabelsAgreeWithRelabellingTheVertices)
+{
+  const int nparts = 4;
+  std::vector<int> owner, fresh;
+  std::vector<double> w;
+  std::vector<double> overlap(nparts * nparts, 0.0);
+  for (int v = 0; v < 97; ++v) {
+    owner.push_back(v % nparts), fresh.push_back((v * 7 + v / 5) % nparts), w.push_back(1 + v % 3);
+    overlap[fresh.back() * nparts + owner.back()] += w.back();
+  }
+  const std::vector<int> label = max_overlap_labels(overlap, nparts);
+  const std::vector<int> relabelled = relabel_max_overlap(fresh, owner, w, nparts);
+  for (int v = 0; v < 97; ++v)
+    EXPECT_EQ(label[fresh[v]], relabelled[v]) << "vertex " << v;
+  EXPECT_THROW(max_overlap_labels(std::vector<double>(3, 0.0), 2), std::invalid_argument);
+}
+
 TEST(PartitionStrategy, TableRejectsAnUnknownPartitionerByName)
 {
   EXPECT_EQ(find_partitioner("metis").id, Partitioner::Metis);
@@ -109,15 +145,20 @@ TEST(PartitionStrategy, TableRejectsAnUnknownPartitionerByName)
   EXPECT_TRUE(find_partitioner("rcb").geometric);
   EXPECT_TRUE(find_partitioner("layers").geometric);
   EXPECT_FALSE(find_partitioner("metis").geometric);
+  EXPECT_TRUE(find_partitioner("ptscotch").distributed);
+  EXPECT_FALSE(find_partitioner("metis").distributed);
+  EXPECT_STREQ(find_partitioner("ptscotch").package, "libptscotch-dev");
+  EXPECT_TRUE(find_partitioner("zoltan-phg").distributed);
+  EXPECT_EQ(find_partitioner("zoltan-graph").id, Partitioner::ZoltanGraph);
+  const char* expected = "keyword 'partitioner': expected metis or scotch or rcb or layers or "
+                         "ptscotch or zoltan-phg or zoltan-graph, got 'chaco'";
   try {
     find_partitioner("chaco");
     FAIL() << "an unknown partitioner was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(),
-                 "keyword 'partitioner': expected metis or scotch or rcb or layers, got 'chaco'");
+    EXPECT_STREQ(e.what(), expected);
   }
-  EXPECT_EQ(spec_error({"10", "1.1", "partitioner", "chaco"}),
-            "keyword 'partitioner': expected metis or scotch or rcb or layers, got 'chaco'");
+  EXPECT_EQ(spec_error({"10", "1.1", "partitioner", "chaco"}), expected);
 }
 
 // The strategy is the partitioners' own calls in a fixed order: `scratch` with METIS is METIS

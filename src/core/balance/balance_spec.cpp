@@ -78,6 +78,7 @@ void parse_cells(const std::string& v, BalanceSpec& s)
 {
   char* end = nullptr;
   s.cell_factor = std::strtod(v.c_str(), &end);
+  s.have_cells = true;
   if (*end || !(s.cell_factor == 0.0 || s.cell_factor >= 1.0))
     fail("keyword 'cells': expected 0 (one vertex per particle) or a cell edge >= 1 in ghost "
          "cutoffs, got '" +
@@ -144,10 +145,26 @@ double parse_threshold(const std::string& word)
   return t;
 }
 
+// A distributed partitioner keeps the graph where it is built: one vertex per particle (every
+// rank would need the owner of every cell), each repartition one call from scratch.
+void check_distributed(BalanceSpec& s, const PartitionerInfo& p)
+{
+  if (s.have_strategy)
+    fail(std::string("keyword 'repartition' chooses how METIS is used; 'partitioner ") + p.name +
+         "' partitions on all ranks in one call (drop 'repartition')");
+  if (s.have_cells && s.cell_factor > 0.0)
+    fail(std::string("keyword 'partitioner ") + p.name +
+         "' partitions one vertex per particle where the particles are (the graph stays "
+         "distributed; cells would need every cell's owner on every rank): use 'cells 0' or "
+         "leave 'cells' out");
+  s.cell_factor = 0.0;
+}
+
 // Settings that exclude each other.
-void check_combinations(const BalanceSpec& s)
+void check_combinations(BalanceSpec& s)
 {
   const PartitionerInfo& p = partitioner_info(s.partitioner);
+  if (p.distributed) return check_distributed(s, p);
   if (p.repartitions && s.have_strategy)
     fail("keyword 'repartition' chooses how METIS is used; with 'partitioner scotch' each "
          "repartition is one SCOTCH_graphRepart call (drop 'repartition')");

@@ -31,6 +31,7 @@ struct BalanceSpec {
   Strategy strategy = Strategy::Auto;               // repartition
   bool have_strategy = false;                       // repartition given
   double cell_factor = 2.0; // cells: cell edge in ghost cutoffs; 0 = one vertex per particle
+  bool have_cells = false;  // cells given (a distributed partitioner defaults to 0)
   std::vector<std::string> insert_regions; // insert_region (repeatable)
   std::string out_file;                    // out; empty: no report
 };

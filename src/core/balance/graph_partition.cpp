@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace fracdem::balance
 {
@@ -298,13 +299,20 @@ std::vector<int> relabel_max_overlap(const std::vector<int>& new_part,
     overlap[static_cast<size_t>(a) * nparts + b] +=
         v < vertex_migration_weight.size() ? vertex_migration_weight[v] : 1.0;
   }
-  for (double& o : overlap)
-    o = -o; // maximise overlap = minimise its negative
-  const std::vector<int> label = hungarian_min(overlap, nparts);
+  const std::vector<int> label = max_overlap_labels(std::move(overlap), nparts);
   std::vector<int> out(new_part.size());
   for (size_t v = 0; v < new_part.size(); ++v)
     out[v] = new_part[v] >= 0 && new_part[v] < nparts ? label[new_part[v]] : new_part[v];
   return out;
+}
+
+std::vector<int> max_overlap_labels(std::vector<double> overlap, int nparts)
+{
+  if (overlap.size() != static_cast<size_t>(nparts) * nparts)
+    throw std::invalid_argument("max_overlap_labels: overlap needs nparts * nparts entries");
+  for (double& o : overlap)
+    o = -o; // maximise overlap = minimise its negative
+  return hungarian_min(overlap, nparts);
 }
 
 double migration_weight(const std::vector<int>& from, const std::vector<int>& to,

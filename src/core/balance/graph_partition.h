@@ -79,6 +79,11 @@ std::vector<int> relabel_max_overlap(const std::vector<int>& new_part,
                                      const std::vector<double>& vertex_migration_weight,
                                      int nparts);
 
+// The labels of relabel_max_overlap from the overlap table alone: overlap[a * nparts + b] is the
+// weight of the vertices of new part a that live on rank b now; label[a] is the rank new part a
+// goes to. Lets ranks that hold only their own vertices agree on the labels.
+std::vector<int> max_overlap_labels(std::vector<double> overlap, int nparts);
+
 // Total weight of the vertices whose assignment differs.
 double migration_weight(const std::vector<int>& from, const std::vector<int>& to,
                         const std::vector<double>& vertex_migration_weight);

@@ -16,10 +16,13 @@ namespace
 
 // The one table of partitioners, in the documentation's order.
 const PartitionerInfo kPartitioners[] = {
-    {"metis", Partitioner::Metis, false, false},
-    {"scotch", Partitioner::Scotch, false, true},
-    {"rcb", Partitioner::Rcb, true, false},
-    {"layers", Partitioner::Layers, true, false},
+    {"metis", Partitioner::Metis, false, false, false, "libmetis-dev"},
+    {"scotch", Partitioner::Scotch, false, true, false, "libscotch-dev"},
+    {"rcb", Partitioner::Rcb, true, false, false, ""},
+    {"layers", Partitioner::Layers, true, false, false, ""},
+    {"ptscotch", Partitioner::PtScotch, false, true, true, "libptscotch-dev"},
+    {"zoltan-phg", Partitioner::ZoltanPhg, false, true, true, "libtrilinos-zoltan-dev"},
+    {"zoltan-graph", Partitioner::ZoltanGraph, false, true, true, "libtrilinos-zoltan-dev"},
 };
 
 } // namespace
@@ -61,6 +64,9 @@ std::vector<int> PartitionStrategy::from_scratch(const Graph& g, int nparts,
 PartitionResult PartitionStrategy::partition(const Graph& g, const std::vector<int>& old_owner,
                                              int nparts, const PartitionGeometry& geometry) const
 {
+  if (partitioner_.distributed)
+    throw std::invalid_argument(std::string("partitioner ") + partitioner_.name +
+                                " runs on all ranks (partition_distributed), not on one graph");
   const std::vector<double> load(g.vwgt.begin(), g.vwgt.end());
   const double current = imbalance(part_loads(load, old_owner, nparts));
   PartitionResult r;

@@ -13,7 +13,7 @@
 namespace fracdem::balance
 {
 
-enum class Partitioner { Metis, Scotch, Rcb, Layers };
+enum class Partitioner { Metis, Scotch, Rcb, Layers, PtScotch, ZoltanPhg, ZoltanGraph };
 // `repartition`: diffusion from the current owners, a partition from scratch, or by imbalance.
 enum class Strategy { Auto, Refine, Scratch };
 
@@ -26,10 +26,15 @@ struct PartitionerInfo {
   bool geometric;
   // One call trades edge cut against migration: `repartition` does not apply.
   bool repartitions;
+  // Runs on all ranks with the graph left where it is built (particle vertices only): no rank
+  // gathers the graph or the partition. The Debian package that provides it.
+  bool distributed;
+  const char* package;
 };
 
 // The partitioner named `name`; else throws std::invalid_argument "keyword 'partitioner':
-// expected metis or scotch or rcb or layers, got 'NAME'".
+// expected metis or scotch or rcb or layers or ptscotch or zoltan-phg or zoltan-graph, got
+// 'NAME'".
 const PartitionerInfo& find_partitioner(const std::string& name);
 const PartitionerInfo& partitioner_info(Partitioner p);
 
@@ -43,6 +48,10 @@ constexpr int kRefinePasses = 64;
 // weight. A particle of average cost weighs kWeightResolution and a contact edge a few units, so
 // moving a particle costs about as much as cutting the edges of a few neighbours.
 constexpr double kScotchMigrationCost = 0.1;
+// partitioner ptscotch: the load tolerance given to PT-Scotch's strategy. Its parallel refinement
+// is coarser than METIS's, so it is asked for the common tolerance and its result is checked
+// against it like the others' (predicted_imbalance).
+constexpr double kDistributedTolerance = kPartitionTolerance;
 
 // What the partitioner may use besides the graph: for geometric partitioners the vertices' cells
 // (cells[v] of grid) and their centres (3 per vertex, partitioner rcb), and the axis of the host's
