@@ -14,62 +14,46 @@ CONCRETE = dict(density=2400, youngs=30e9, poisson=0.2, strength=3e6, fracture_e
 STEEL = dict(density=7800, youngs=2e11, poisson=0.3)
 
 
-def gmsh_slab(path, lc, size=(0.3, 0.3, 0.05)):
-    """Unstructured tet4 box (Gmsh's default 3D algorithm, characteristic length lc), centred in
-    x and y, z from 0 to its height; physical groups xmin and xmax name the end faces."""
+def _gmsh_mesh(path, dim, lc, add_shape, lx, name):
+    """Meshes the shape add_shape() makes (Gmsh's default algorithm of the dimension, largest
+    element size lc), names its end faces at x = -lx/2 and lx/2 xmin and xmax, writes Gmsh 2.2;
+    returns the element count."""
     import gmsh
     gmsh.initialize()
     gmsh.option.setNumber("General.Verbosity", 0)
-    gmsh.model.add("slab")
-    lx, ly, lz = size
-    gmsh.model.occ.addBox(-lx / 2, -ly / 2, 0, lx, ly, lz)
+    gmsh.model.add(name)
+    add_shape(gmsh.model.occ)
     gmsh.model.occ.synchronize()
-    faces = {}
-    for dim, tag in gmsh.model.getEntities(2):
-        c = gmsh.model.occ.getCenterOfMass(dim, tag)
-        if abs(c[0] + lx / 2) < 1e-9:
-            faces["xmin"] = tag
-        elif abs(c[0] - lx / 2) < 1e-9:
-            faces["xmax"] = tag
-    for name, tag in faces.items():
-        gmsh.model.setPhysicalName(2, gmsh.model.addPhysicalGroup(2, [tag]), name)
-    gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [1]), "slab")
+    for _, tag in gmsh.model.getEntities(dim - 1):
+        c = gmsh.model.occ.getCenterOfMass(dim - 1, tag)
+        for end, x in (("xmin", -lx / 2), ("xmax", lx / 2)):
+            if abs(c[0] - x) < 1e-9:
+                gmsh.model.setPhysicalName(dim - 1, gmsh.model.addPhysicalGroup(dim - 1, [tag]),
+                                           end)
+    gmsh.model.setPhysicalName(dim, gmsh.model.addPhysicalGroup(dim, [1]), name)
     gmsh.option.setNumber("Mesh.CharacteristicLengthMax", lc)
     gmsh.option.setNumber("Mesh.MshFileVersion", 2.2)
-    gmsh.model.mesh.generate(3)
+    gmsh.model.mesh.generate(dim)
     gmsh.write(path)
-    n = len(gmsh.model.mesh.getElementsByType(4)[0])
+    n = len(gmsh.model.mesh.getElementsByType(4 if dim == 3 else 2)[0])
     gmsh.finalize()
     return n
+
+
+def gmsh_slab(path, lc, size=(0.3, 0.3, 0.05)):
+    """Unstructured tet4 box, centred in x and y, z from 0 to its height; xmin and xmax name the
+    end faces."""
+    lx, ly, lz = size
+    return _gmsh_mesh(path, 3, lc, lambda occ: occ.addBox(-lx / 2, -ly / 2, 0, lx, ly, lz), lx,
+                      "slab")
 
 
 def gmsh_plate(path, lc, size=(0.2, 0.02)):
-    """Unstructured tri3 rectangle (Gmsh's default frontal-Delaunay 2D algorithm), centred in x,
-    y from 0 to its height; physical groups xmin and xmax name the end edges."""
-    import gmsh
-    gmsh.initialize()
-    gmsh.option.setNumber("General.Verbosity", 0)
-    gmsh.model.add("plate")
+    """Unstructured tri3 rectangle (frontal-Delaunay), centred in x, y from 0 to its height; xmin
+    and xmax name the end edges."""
     lx, ly = size
-    gmsh.model.occ.addRectangle(-lx / 2, 0, 0, lx, ly)
-    gmsh.model.occ.synchronize()
-    edges = {}
-    for dim, tag in gmsh.model.getEntities(1):
-        c = gmsh.model.occ.getCenterOfMass(dim, tag)
-        if abs(c[0] + lx / 2) < 1e-9:
-            edges["xmin"] = tag
-        elif abs(c[0] - lx / 2) < 1e-9:
-            edges["xmax"] = tag
-    for name, tag in edges.items():
-        gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, [tag]), name)
-    gmsh.model.setPhysicalName(2, gmsh.model.addPhysicalGroup(2, [1]), "plate")
-    gmsh.option.setNumber("Mesh.CharacteristicLengthMax", lc)
-    gmsh.option.setNumber("Mesh.MshFileVersion", 2.2)
-    gmsh.model.mesh.generate(2)
-    gmsh.write(path)
-    n = len(gmsh.model.mesh.getElementsByType(2)[0])
-    gmsh.finalize()
-    return n
+    return _gmsh_mesh(path, 2, lc, lambda occ: occ.addRectangle(-lx / 2, 0, 0, lx, ly), lx,
+                      "plate")
 
 
 PREAMBLE = """atom_style      granular

@@ -942,10 +942,10 @@ std::string BodyDriver::inverted_line(std::int64_t step, int e) const
 ------------------------------------------------------------------------- */
 
 // Nodes of elements whose material has begun to fail (damage), for the particle contact's Hertz
-// patch; nullptr while no point of the body is damaged (nothing to look at).
+// patch; nullptr without a patch or while no point of the body is damaged (nothing to look at).
 const std::vector<char>* BodyDriver::mark_inelastic_nodes()
 {
-  if (body_.damaged_points() == 0) return nullptr;
+  if (!contact_.options().hertz_patch || body_.damaged_points() == 0) return nullptr;
   const Mesh& mesh = body_.mesh();
   inelastic_nodes_.assign(mesh.num_nodes(), 0);
   for (int e = 0; e < mesh.num_elems(); ++e) {
