@@ -679,7 +679,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
     body_contact_forces(step, dt, count_work);
   ParticleFacetResult res;
   if (particles) {
-    contact_.set_node_masses(body_.rigid() ? nullptr : body_.masses().data());
+    contact_.set_node_masses(contact_masses());
     contact_.set_inelastic_nodes(mark_inelastic_nodes());
     res = contact_.evaluate(*particles, body_.mesh().X.data(), body_.positions().data(),
                             body_.velocities().data(), dt, body_.contact_forces());
@@ -878,7 +878,7 @@ double BodyDriver::erosion_loop(double energy, int& first_inverted, int* counts,
 void BodyDriver::after_erosion(std::int64_t step, double dt, const int* counts,
                                const std::vector<int>& batch)
 {
-  rebuild_surfaces(true);
+  rebuild_surfaces();
   print(erosion_line(step, counts, batch));
   dt_stable_ = body_.stable_time_step();
   follow_step_after_erosion(step, dt);
@@ -926,7 +926,7 @@ std::string BodyDriver::erosion_line(std::int64_t step, const int* counts,
 void BodyDriver::erode_inverted(std::int64_t step, int e)
 {
   body_.erode({e}, spec_->erosion.remove_mass);
-  rebuild_surfaces(true);
+  rebuild_surfaces();
   print(inverted_line(step, e));
 }
 
@@ -940,6 +940,19 @@ std::string BodyDriver::inverted_line(std::int64_t step, int e) const
 /* ----------------------------------------------------------------------
    surfaces and body-body contact
 ------------------------------------------------------------------------- */
+
+// The masses a particle contact moves: the nodes' lumped masses, 0 (infinitely heavy) where a
+// fixed or prescribed node does not move; nullptr for a rigid body.
+const double* BodyDriver::contact_masses()
+{
+  if (body_.rigid()) return nullptr;
+  const std::vector<double>& m = body_.masses();
+  const std::vector<NodeBc>& bc = body_.conditions();
+  contact_mass_.resize(m.size());
+  for (size_t n = 0; n < m.size(); ++n)
+    contact_mass_[n] = bc[n] == NodeBc::Fixed || bc[n] == NodeBc::Prescribed ? 0.0 : m[n];
+  return contact_mass_.data();
+}
 
 // Nodes of elements whose material has begun to fail (damage), for the particle contact's Hertz
 // patch; nullptr without a patch or while no point of the body is damaged (nothing to look at).
@@ -956,11 +969,11 @@ const std::vector<char>* BodyDriver::mark_inelastic_nodes()
   return &inelastic_nodes_;
 }
 
-// After a topology change (cracked: faces may be born inside particles): particle contact and the
-// contact between the body's own pieces.
-void BodyDriver::rebuild_surfaces(bool cracked)
+// After a topology change: particle contact and the contact between the body's own pieces.
+// (Faces born inside particles are not marked yet (ParticleFacetContact::expect_births): a
+// distributed body's facet ghosts do not carry births, and np 1 must equal np 2 distributed.)
+void BodyDriver::rebuild_surfaces()
 {
-  if (cracked && !distributed_) contact_.expect_births();
   contact_.rebuild_surface(body_.mesh());
   if (spec_->contact_bodies <= 0) return;
   if (distributed_)
@@ -1163,7 +1176,7 @@ void BodyDriver::fracture(std::int64_t step, double dt)
   if (counts[0] != -counts[1] || counts[2] != -counts[3])
     fail("fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
   if (!cuts.empty()) share_element_work();
-  rebuild_surfaces(true);
+  rebuild_surfaces();
   log_cracks(step, events, cuts);
   check_step_after_cracks(step, dt, !cuts.empty());
 }

@@ -226,8 +226,9 @@ private:
   // body's rank warns with its own).
   std::string unresolved_contact_text(std::int64_t step, double speed, double dt_ok) const;
   std::string wide_patch_text(std::int64_t step, double radii) const;
-  void rebuild_surfaces(bool cracked = false);
+  void rebuild_surfaces();
   const std::vector<char>* mark_inelastic_nodes();
+  const double* contact_masses();
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
   void configure_scene();
   int body_contacts(std::int64_t step, double dt);
@@ -430,6 +431,7 @@ private:
   std::function<double(int, int)> friction_;
   FailureMap failure_map_; // kept between checks: no allocation per check
   std::vector<char> inelastic_nodes_; // per node: at a damaged element (mark_inelastic_nodes)
+  std::vector<double> contact_mass_;  // per node: what a particle contact moves (contact_masses)
   // The replicated body's face-connected pieces, kept while its topology is unchanged (a
   // restored record takes them again; a distributed body's gathered check takes its own).
   FacePieces face_pieces_;

@@ -20,11 +20,13 @@ void BodyDriver::distributed_contact(const ParticleArrays& p, std::int64_t step,
     boxes_due_ = false;
   }
   std::string why = ghosts_.check_particles(p);
-  if (why.empty()) why = ghosts_.outgoing(x, v, ghost_out_);
+  const double* mass = contact_masses();
+  const std::vector<char>* inelastic = mark_inelastic_nodes();
+  if (why.empty()) why = ghosts_.outgoing(x, v, ghost_out_, mass, inelastic);
   if (!why.empty()) fail_one(prefix() + why);
   host_.exchange(0, ghosts_.send_to(), ghost_out_, ghosts_.recv_from(), ghost_in_);
   const ParticleFacetResult res =
-      ghosts_.evaluate(p, ghost_in_, x, v, dt, body_.contact_forces(), ghost_back_);
+      ghosts_.evaluate(p, ghost_in_, x, v, dt, body_.contact_forces(), ghost_back_, mass, inelastic);
   host_.exchange(1, ghosts_.recv_from(), ghost_back_, ghosts_.send_to(), ghost_returned_);
   ghosts_.add_returned(ghost_returned_, body_.contact_forces()); // summed by the caller
   ncontacts_ = res.contacts;

@@ -229,7 +229,8 @@ std::string FacetGhosts::check_particles(const ParticleArrays& p) const
 /* ---------------------------------------------------------------------- */
 
 std::string FacetGhosts::outgoing(const double* x, const double* v,
-                                  std::vector<std::vector<double>>& out)
+                                  std::vector<std::vector<double>>& out, const double* mass,
+                                  const std::vector<char>* inelastic)
 {
   // Only partners listen: a facet within reach of another rank's particles is an error (the
   // surface moved more than the buffer allows since the boxes were exchanged).
@@ -272,6 +273,8 @@ std::string FacetGhosts::outgoing(const double* x, const double* v,
     for (int n : sent_local_[k]) {
       m.insert(m.end(), &x[3 * n], &x[3 * n] + 3);
       m.insert(m.end(), &v[3 * n], &v[3 * n] + 3);
+      m.push_back(mass ? mass[n] : 0.0);
+      m.push_back(inelastic && (*inelastic)[n] ? 1.0 : 0.0);
     }
   }
   return "";
@@ -342,7 +345,8 @@ void FacetGhosts::build_surface()
 ParticleFacetResult FacetGhosts::evaluate(const ParticleArrays& p,
                                           const std::vector<std::vector<double>>& in,
                                           const double* x, const double* v, double dt,
-                                          double* f_part, std::vector<std::vector<double>>& back)
+                                          double* f_part, std::vector<std::vector<double>>& back,
+                                          const double* mass, const std::vector<char>* inelastic)
 {
   assemble(in);
   // Node data of message k start after its facet list.
@@ -352,13 +356,22 @@ ParticleFacetResult FacetGhosts::evaluate(const ParticleArrays& p,
   const int nn = static_cast<int>(local_nodes_.size());
   x_.resize(3 * nn);
   v_.resize(3 * nn);
+  m_.resize(nn);
+  inelastic_.assign(nn, 0);
+  bool any_inelastic = false;
   for (int i = 0; i < nn; ++i) {
     const int k = node_src_[i], pos = node_pos_[i];
-    const double* xs = k < 0 ? &x[3 * pos] : &in[k][start[k] + 6 * pos];
-    const double* vs = k < 0 ? &v[3 * pos] : &in[k][start[k] + 6 * pos + 3];
+    const double* xs = k < 0 ? &x[3 * pos] : &in[k][start[k] + kNodeDoubles * pos];
+    const double* vs = k < 0 ? &v[3 * pos] : xs + 3;
     std::copy(xs, xs + 3, &x_[3 * i]);
     std::copy(vs, vs + 3, &v_[3 * i]);
+    m_[i] = k < 0 ? (mass ? mass[pos] : 0.0) : xs[6];
+    inelastic_[i] = k < 0 ? (inelastic && (*inelastic)[pos]) : xs[7] != 0.0;
+    any_inelastic = any_inelastic || inelastic_[i];
   }
+  // Nodes of mass 0 count as infinitely heavy (ParticleFacetContact::contact_mass).
+  contact_.set_node_masses(m_.data());
+  contact_.set_inelastic_nodes(any_inelastic ? &inelastic_ : nullptr);
   f_.assign(3 * nn, 0.0);
   ParticleFacetResult res;
   if (nn > 0) res = contact_.evaluate(p, X_.data(), x_.data(), v_.data(), dt, f_.data());

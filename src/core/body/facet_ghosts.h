@@ -73,13 +73,21 @@ public:
   // Messages to send_to(): the facets within reach of each partner's particles (their global
   // keys when they changed) and the positions and velocities of their nodes. x, v: the part's.
   // Returns "" or the error (a facet came within reach of a rank that is no partner).
-  std::string outgoing(const double* x, const double* v, std::vector<std::vector<double>>& out);
+  // mass: the part's lumped node masses, inelastic: its nodes at damaged elements (see
+  // ParticleFacetContact::set_node_masses / set_inelastic_nodes); nullptr: none.
+  std::string outgoing(const double* x, const double* v, std::vector<std::vector<double>>& out,
+                       const double* mass = nullptr,
+                       const std::vector<char>* inelastic = nullptr);
   // The contact of this rank's particles with its own facets within reach and those received
   // (in[k] from recv_from()[k]); forces of the part's nodes are added to f_part, the others go
   // back[k] to the part that sent them (each node to one part: the lowest that sent it).
   ParticleFacetResult evaluate(const ParticleArrays& p, const std::vector<std::vector<double>>& in,
                                const double* x, const double* v, double dt, double* f_part,
-                               std::vector<std::vector<double>>& back);
+                               std::vector<std::vector<double>>& back,
+                               const double* mass = nullptr,
+                               const std::vector<char>* inelastic = nullptr);
+  // Doubles per node in a message: position, velocity, mass, inelastic flag.
+  static constexpr int kNodeDoubles = 8;
   // Forces returned by send_to()[k] (returned[k]) added to the part's nodes.
   void add_returned(const std::vector<std::vector<double>>& returned, double* f_part) const;
 
@@ -113,7 +121,8 @@ private:
   // where each node's position comes from and where its force goes: source -1 the part (index
   // in the part), else recv_from index k (position in recv_nodes_[k]).
   std::vector<int> local_facets_, local_nodes_, node_src_, node_pos_;
-  std::vector<double> X_, x_, v_, f_;
+  std::vector<double> X_, x_, v_, f_, m_;
+  std::vector<char> inelastic_;
   ParticleFacetContact contact_;
   int box_exchanges_ = 0;
 };

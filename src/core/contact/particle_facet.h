@@ -100,7 +100,8 @@ public:
                    std::vector<int> pieces, std::vector<double> node_area,
                    std::vector<int> key_nodes);
   void invalidate_search() { search_stale_ = true; }
-  // Lumped masses of the surface's nodes (nullptr: a rigid surface, infinitely heavy). A contact
+  // Lumped masses of the surface's nodes (nullptr: a rigid surface, infinitely heavy; a node of
+  // mass 0 is held, infinitely heavy too). A contact
   // damps the relative motion of its particle and the surface point it touches, so its dashpot
   // works on their reduced mass: the particle's alone would over-damp a light node (a split
   // node's copy, a small fragment) and the explicit step would amplify its motion instead.
