@@ -124,64 +124,6 @@ TEST(ParticleFacet, AFastApproachIsFlaggedWithTheTimeStepThatResolvesIt)
   EXPECT_NEAR(coarse.resolving_dt, dt_ok, 1e-9 * dt_ok);
 }
 
-namespace
-{
-
-// A two-layer tet box (height 0.5) with every element of the top layer eroded: the faces at
-// z = 0.25 become surface.
-void erode_top_layer(Mesh& mesh)
-{
-  for (int e = 0; e < mesh.num_elems(); ++e) {
-    double zc = 0;
-    for (int j = 0; j < 4; ++j)
-      zc += mesh.X[3 * mesh.conn[e][j] + 2] / 4;
-    if (zc > 0.25) mesh.active[e] = 0;
-  }
-}
-
-double normal_force_after_erosion(bool expect_births, double sink)
-{
-  Mesh mesh = make_box_tet_mesh(4, 4, 2, 1.0, 1.0, 0.5);
-  auto contact = make_contact(mesh);
-  OneParticle p;
-  p.radius = 0.3;
-  p.x[0] = 0.37;
-  p.x[1] = 0.61;
-  p.x[2] = 0.5; // 0.3 into the top face: 0.05 into the faces at z = 0.25
-  evaluate(contact, mesh, mesh.X, p);
-  erode_top_layer(mesh);
-  if (expect_births) contact.expect_births();
-  contact.rebuild_surface(mesh);
-  p.f[2] = 0;
-  evaluate(contact, mesh, mesh.X, p); // the faces' birth
-  p.x[2] -= sink;
-  p.f[2] = 0;
-  evaluate(contact, mesh, mesh.X, p);
-  return p.f[2];
-}
-
-} // namespace
-
-TEST(ParticleFacet, AFaceBornInsideASpherePushesOnlyByTheOverlapGainedSince)
-{
-  // Eroding the top layer under a sphere exposes faces 0.05 inside it. Counted from zero they
-  // would push with the Hertz force of 0.05 (energy nobody stored); as born faces they push by
-  // the overlap gained after their birth: nothing at once, that of a fresh 0.01 after sinking
-  // 0.01 (the same as a sphere 0.01 into the lower layer's top).
-  EXPECT_GT(normal_force_after_erosion(false, 0.0), 0.0);
-  EXPECT_EQ(normal_force_after_erosion(true, 0.0), 0.0);
-  Mesh lower = make_box_tet_mesh(4, 4, 1, 1.0, 1.0, 0.25);
-  auto fresh = make_contact(lower);
-  OneParticle q;
-  q.radius = 0.3;
-  q.x[0] = 0.37;
-  q.x[1] = 0.61;
-  q.x[2] = 0.25 + 0.3 - 0.01;
-  evaluate(fresh, lower, lower.X, q);
-  ASSERT_GT(q.f[2], 0.0);
-  EXPECT_NEAR(normal_force_after_erosion(true, 0.01), q.f[2], 1e-9 * q.f[2]);
-}
-
 TEST(ParticleFacet, ContactDampsTheReducedMassOfParticleAndSurfacePoint)
 {
   // A sphere approaching a node of the top face: the dashpot force (force at speed v minus force

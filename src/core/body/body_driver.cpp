@@ -970,8 +970,6 @@ const std::vector<char>* BodyDriver::mark_inelastic_nodes()
 }
 
 // After a topology change: particle contact and the contact between the body's own pieces.
-// (Faces born inside particles are not marked yet (ParticleFacetContact::expect_births): a
-// distributed body's facet ghosts do not carry births, and np 1 must equal np 2 distributed.)
 void BodyDriver::rebuild_surfaces()
 {
   contact_.rebuild_surface(body_.mesh());

@@ -27,14 +27,8 @@ double* history_slot(double* row, int slots, std::uint64_t key, bool create, boo
   double* s = row + free_slot * kHistorySlotDoubles;
   s[0] = hi;
   s[1] = lo;
-  std::fill(s + 2, s + kHistorySlotDoubles, 0.0);
+  s[2] = s[3] = s[4] = 0;
   return s;
-}
-
-std::uint64_t born_facet_key(int elem, int local_face)
-{
-  return (std::uint64_t{1} << 63) | (static_cast<std::uint64_t>(elem) << 3) |
-         static_cast<std::uint64_t>(local_face);
 }
 
 void clear_history_row(double* row, int slots)
@@ -66,65 +60,8 @@ void ParticleFacetContact::rebuild_surface(const Mesh& mesh)
   indentation_disp_.assign(nnodes_, 0.0);
   reference_normals(mesh);
   surface_pieces();
-  mark_born_facets();
   key_nodes_.clear();
   search_stale_ = true;
-}
-
-// Compares the new surface with the last one by (element, local face), which a node split leaves
-// alone: only faces that were inside the body, or behind an eroded element, are born.
-void ParticleFacetContact::mark_born_facets()
-{
-  std::vector<std::uint64_t> faces(facets_.size());
-  for (size_t k = 0; k < facets_.size(); ++k)
-    faces[k] = born_facet_key(facets_[k].elem, facets_[k].local_face);
-  born_.assign(facets_.size(), 0);
-  if (births_expected_)
-    for (size_t k = 0; k < facets_.size(); ++k) {
-      born_[k] = !std::binary_search(surface_faces_.begin(), surface_faces_.end(), faces[k]);
-      births_pending_ = births_pending_ || born_[k];
-    }
-  births_seen_ = births_seen_ || births_pending_;
-  births_expected_ = false;
-  std::sort(faces.begin(), faces.end());
-  surface_faces_ = std::move(faces);
-}
-
-// Takes each hit's overlap at its facet's birth off its overlap (the record ratchets down as the
-// particle backs out, and goes with the last overlap), and drops the hits left without overlap.
-void ParticleFacetContact::discount_birth_overlaps(double* hist, int slots,
-                                                   ParticleFacetResult& res)
-{
-  if (!hist || !births_seen_) return;
-  size_t kept = 0;
-  for (size_t k = 0; k < hits_.size(); ++k) {
-    const Facet& fc = facets_[hits_[k].facet];
-    const bool birth = births_pending_ && born_[hits_[k].facet] && overlaps_[k] > 0;
-    double* slot = history_slot(hist, slots, born_facet_key(fc.elem, fc.local_face), birth,
-                                &res.history_exhausted);
-    if (slot && birth) {
-      slot[5] = overlaps_[k];
-      ++res.born_overlaps;
-      res.born_overlap_max = std::max(res.born_overlap_max, overlaps_[k]);
-    }
-    if (slot) {
-      slot[5] = std::min(slot[5], overlaps_[k]);
-      overlaps_[k] -= slot[5];
-      touched_[(slot - hist) / kHistorySlotDoubles] = 1;
-    }
-    if (overlaps_[k] <= 0) continue;
-    hits_[kept] = hits_[k];
-    overlaps_[kept] = overlaps_[k];
-    for (int d = 0; d < 3; ++d) {
-      normals_[3 * kept + d] = normals_[3 * k + d];
-      hit_centres_[3 * kept + d] = hit_centres_[3 * k + d];
-    }
-    ++kept;
-  }
-  hits_.resize(kept);
-  overlaps_.resize(kept);
-  normals_.resize(3 * kept);
-  hit_centres_.resize(3 * kept);
 }
 
 void ParticleFacetContact::set_surface(std::vector<Facet> facets, int nnodes,
@@ -138,8 +75,6 @@ void ParticleFacetContact::set_surface(std::vector<Facet> facets, int nnodes,
   facet_piece_ = std::move(pieces);
   node_area_ = std::move(node_area);
   key_nodes_ = std::move(key_nodes);
-  born_.assign(facets_.size(), 0);
-  births_pending_ = false;
   indentation_disp_.assign(nnodes_, 0.0);
   search_stale_ = true;
 }
@@ -324,7 +259,6 @@ ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, cons
     checks_.clear();
     contacts_.clear();
     search_stale_ = true;
-    births_pending_ = false;
     return res;
   }
   // The search covers only this rank's particles against the replicated body, so each rank
@@ -358,10 +292,9 @@ ParticleFacetResult ParticleFacetContact::evaluate(const ParticleArrays& p, cons
       if (hist) clear_history_row(hist, p.slots);
       continue;
     }
-    res.contacts += particle_contacts(p, i, X, x, v, dt, f_nodes, res);
     contacts_[i] += static_cast<int>(hits_.size());
+    res.contacts += particle_contacts(p, i, X, x, v, dt, f_nodes, res);
   }
-  births_pending_ = false;
   return res;
 }
 
@@ -440,7 +373,6 @@ int ParticleFacetContact::particle_contacts(const ParticleArrays& p, int i, cons
   hit_normals(r, x);
   double* hist = p.history ? p.history[i] : nullptr;
   std::fill(touched_.begin(), touched_.end(), 0);
-  discount_birth_overlaps(hist, p.slots, res);
   int ncontacts = 0;
   const int nh = static_cast<int>(hits_.size());
   // Hits are grouped by the reference normals of their facets: a sphere pressed deep into one

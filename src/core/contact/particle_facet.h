@@ -38,13 +38,8 @@ struct ParticleArrays {
   int slots = 0;
 };
 
-// Doubles per history record: key (two exact 32-bit halves) + shear[3] + birth overlap. A record
-// keyed by a feature holds a contact's tangential spring; one keyed by a born facet
-// (born_facet_key) holds the overlap that facet had with the particle when it became surface.
-constexpr int kHistorySlotDoubles = 6;
-// History key of the facet that is face `local_face` of element `elem`: stable while nodes split
-// (feature keys, made of node numbers, are not), and apart from every feature key (bit 63).
-std::uint64_t born_facet_key(int elem, int local_face);
+// Doubles per history record: feature key (two exact 32-bit halves) + shear[3].
+constexpr int kHistorySlotDoubles = 5;
 // The record of feature `key` in a particle's history row (slots records), or a new one when
 // `create` (nullptr when all slots are taken). Free records have key halves -1.
 double* history_slot(double* row, int slots, std::uint64_t key, bool create, bool* exhausted);
@@ -74,10 +69,6 @@ struct ParticleFacetResult {
   // hertz_patch: the widest surface patch a contact gathered, in radii of its particle (the
   // facet ghosts of a distributed body reach 4; a deeper contact needs more).
   double patch_radii = 0;
-  // Born facets that met a particle at their birth, and the deepest such overlap: the contact
-  // energy their overlaps would have released (discounted instead).
-  int born_overlaps = 0;
-  double born_overlap_max = 0;
 
 };
 
@@ -109,12 +100,6 @@ public:
   // Per node, 1 where an element at it has begun to fail (nullptr: none has): a contact whose
   // Hertz patch reaches such a node acts at its point (see patch_touches_inelastic).
   void set_inelastic_nodes(const std::vector<char>* flags) { inelastic_nodes_ = flags; }
-  // The next rebuild_surface follows a topology change (a split, an erosion): the faces it finds
-  // that were not surface before are born, and their overlaps with particles are discounted.
-  void expect_births() { births_expected_ = true; }
-  // Facets of the last rebuild_surface that were not surface before it (crack faces, faces an
-  // erosion exposed): per facet, 1 = born; none unless expect_births preceded the rebuild.
-  const std::vector<char>& born_facets() const { return born_; }
   // hold: the evaluations read the tangential history but do not advance it: the host's set-up
   // evaluation, at the positions of the last step, as the host's granular pair styles and walls
   // do in set-up (LIGGGHTS and LAMMPS: no shear update), so that a run that goes on (a second
@@ -152,8 +137,6 @@ private:
                         const double* v, double dt, double* f_nodes, ParticleFacetResult& res);
   void check_time_resolution(const ContactMaterial& mat, const ContactInput& in,
                              ParticleFacetResult& res) const;
-  void mark_born_facets();
-  void discount_birth_overlaps(double* hist, int slots, ParticleFacetResult& res);
   double contact_mass(double particle_mass, const FacetHit& lead, bool spread) const;
   bool patch_touches_inelastic() const;
   bool hertz_contact_patch(const FacetHit& lead, const double* X, const double* x, ContactInput& in,
@@ -192,15 +175,6 @@ private:
   std::vector<int> key_nodes_;           // per node: its number in history keys (empty: itself)
   std::vector<int> hit_pieces_;          // per hit: its facet's piece (scratch)
   std::vector<char> touched_;
-  // Born facets: a face that becomes surface inside a particle (a crack face, a face an erosion
-  // exposed) would push it out with a contact energy nobody stored. Each such (particle, facet)
-  // keeps its overlap at birth in the particle's history and the law sees only the overlap beyond
-  // it, so a topology change leaves every contact's energy where it was.
-  std::vector<std::uint64_t> surface_faces_; // sorted (elem, local_face) keys of the last surface
-  std::vector<char> born_;                   // per facet
-  bool births_expected_ = false; // set by expect_births for the next rebuild_surface
-  bool births_pending_ = false;  // the next evaluation records the born facets' overlaps
-  bool births_seen_ = false;     // a facet was ever born: particles may carry birth records
   std::vector<int> checks_, contacts_;
   // Hertz patch
   std::vector<double> node_area_, indentation_disp_, patch_weights_;
