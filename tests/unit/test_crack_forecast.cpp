@@ -1,5 +1,6 @@
-// Unit tests of the fracture check's forecast (fracture/crack_forecast.h): the dry run of a crack
-// point agrees with insert_cracks, and the parts of a distributed body never miss a change.
+// Unit tests of the fracture check as plan and apply (fracture/fracture_plan.h): planning leaves the
+// body alone, an applied plan decides every point, and the parts of a distributed body never miss
+// a change of the whole body's check.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,7 +10,7 @@
 #include "body/body_driver.h"
 #include "body/body_setup.h"
 #include "body/part_restart.h"
-#include "fracture/crack_forecast.h"
+#include "fracture/fracture_plan.h"
 #include "fracture/nodal_fracture.h"
 #include "io/gmsh_reader.h"
 #include "io/mesh_generators.h"
@@ -69,16 +70,6 @@ std::vector<int> points(const Body& body)
   return crack_points(body.mesh(), map);
 }
 
-// Whether insert_cracks changes anything when it comes to v alone.
-bool splits_alone(const Body& body, int v, double min_size)
-{
-  Body copy = body;
-  std::vector<CutEvent> cuts;
-  const std::vector<SplitEvent> events = insert_cracks(copy, {v}, min_size, &cuts);
-  return !cuts.empty() || std::any_of(events.begin(), events.end(),
-                                      [v](const SplitEvent& ev) { return ev.node == v; });
-}
-
 // Part k of `whole` (3 parts) with its state and topology as a distributed run holds it after a
 // change, its failed elements those of the whole body.
 Body part_of(const Body& whole, const std::vector<int>& elem_part, int k, MeshPart& part,
@@ -98,6 +89,45 @@ Body part_of(const Body& whole, const std::vector<int>& elem_part, int k, MeshPa
     if (local[e] >= 0) failed.push_back(local[e]);
   b.set_damage(whole.damaged_points(), failed);
   return b;
+}
+
+
+// The plan of `points` on `body` (a whole body; erosion with rule), or on a part with its marks.
+FracturePlan plan_of(const Body& body, const std::vector<int>& points, const FractureCheckRule& rule,
+                     const CrackNodes* part = nullptr)
+{
+  FracturePlanInput in;
+  in.points = points;
+  in.rule = rule;
+  in.part = part;
+  if (part) in.fraction = [](int) { return 1.0; };
+  FailureMap map;
+  build_failure_map(body, map);
+  in.failed = map.failed;
+  return plan_fracture(body, in);
+}
+
+// Whether a plan cuts or splits at crack point v (or cannot decide it).
+bool acts_at(const FracturePlan& plan, int v)
+{
+  for (const FractureStep& s : plan.steps)
+    if (s.node == v && s.kind != FractureStep::Kind::Part && s.kind != FractureStep::Kind::Erode)
+      return true;
+  return false;
+}
+
+// Everything a plan could change in a body, compared.
+void expect_same_body(const Body& a, const Body& b)
+{
+  ASSERT_EQ(a.num_nodes(), b.num_nodes());
+  ASSERT_EQ(a.mesh().num_elems(), b.mesh().num_elems());
+  EXPECT_EQ(a.positions(), b.positions());
+  EXPECT_EQ(a.velocities(), b.velocities());
+  EXPECT_EQ(a.masses(), b.masses());
+  EXPECT_EQ(a.mesh().conn, b.mesh().conn);
+  EXPECT_EQ(a.mesh().active, b.mesh().active);
+  EXPECT_EQ(a.material_state(), b.material_state());
+  EXPECT_EQ(a.parents(), b.parents());
 }
 
 } // namespace
@@ -129,74 +159,47 @@ void torn_bar(const std::filesystem::path& dir, double min_size, int first, int 
   });
 }
 
-// Whether the dry run at every crack point of `body` says "may split" exactly where insert_cracks,
-// coming to the point first, splits or cuts it (it is then a superset too); returns the points
-// where it does.
-int dry_run_agrees(const Body& body, double min_size)
-{
-  const CrackNodes nodes = whole_crack_nodes(body, min_size);
-  const auto fraction = [&body](int e) { return body.piece_fraction(e); };
-  int yes = 0;
-  for (int v : points(body)) {
-    const bool may = crack_point_may_split(body, v, nodes.on_crack, min_size, fraction);
-    EXPECT_EQ(may, splits_alone(body, v, min_size)) << "point " << v << " min_size " << min_size;
-    yes += may;
-  }
-  return yes;
-}
-
-// Before the first check, after a check on every other crack point (the band of a split point
-// then cracked; some points on one side of their plane), and after a check of all of them, at two
-// stages of the bar's cracking, with and without cuts through elements (min_size 0.2): the dry run
-// agrees with insert_cracks at every crack point; after the full check it says "no" at every
-// point split and every copy.
-TEST_F(CrackForecastTest, DryRunAgreesWithInsertCracks)
+// The rankine bar at two stages of its cracking, with and without cuts (min_size 0.2): planning
+// leaves the body as it was; the plan applied to a copy makes the changes insert_cracks makes one
+// point at a time (the same splits and cuts); and a plan made again on the result has nothing left
+// to do at any crack point (the check decided every one).
+TEST_F(CrackForecastTest, PlanLeavesTheBodyAndDecidesEveryPoint)
 {
   for (int steps : {1300, 1500})
     for (double min_size : {0.0, 0.2}) {
       SCOPED_TRACE(::testing::Message() << steps << " steps, min_size " << min_size);
-      Body whole = failed_bar(steps);
+      const Body whole = failed_bar(steps);
       const std::vector<int> pts = points(whole);
       ASSERT_GT(pts.size(), 10u);
-      const int fresh = dry_run_agrees(whole, min_size);
-      EXPECT_GT(fresh, 0);
-      std::vector<int> half;
-      for (size_t k = 0; k < pts.size(); k += 2)
-        half.push_back(pts[k]);
-      Body partly = whole;
-      insert_cracks(partly, half, min_size);
-      dry_run_agrees(partly, min_size);
-      std::vector<CutEvent> cuts;
-      const std::vector<SplitEvent> events = insert_cracks(whole, pts, min_size, &cuts);
-      ASSERT_FALSE(events.empty());
-      const CrackNodes after = whole_crack_nodes(whole, min_size);
-      for (const SplitEvent& ev : events) {
-        EXPECT_FALSE(crack_point_may_split(whole, ev.node, after.on_crack, min_size))
-            << "split point " << ev.node;
-        EXPECT_FALSE(crack_point_may_split(whole, ev.copy, after.on_crack, min_size))
-            << "copy " << ev.copy;
-      }
-      dry_run_agrees(whole, min_size);
+      FractureCheckRule rule;
+      rule.min_size = min_size;
+      rule.erode = false;
+      const Body before = whole;
+      const FracturePlan plan = plan_of(whole, pts, rule);
+      expect_same_body(whole, before);
+      ASSERT_FALSE(plan.empty());
+      Body applied = whole;
+      const FractureOutcome out = apply_fracture_plan(applied, plan);
+      EXPECT_TRUE(out.changed());
+      Body stepwise = whole; // point by point, each on the body the earlier ones left
+      for (int v : pts)
+        insert_cracks(stepwise, {v}, min_size);
+      EXPECT_EQ(applied.num_nodes(), stepwise.num_nodes());
+      EXPECT_EQ(applied.mesh().num_elems(), stepwise.mesh().num_elems());
+      const FracturePlan again = plan_of(applied, points(applied), rule);
+      for (int v : points(applied))
+        EXPECT_FALSE(acts_at(again, v)) << "point " << v;
     }
 }
 
 // Three parts of the body, before and after its check: whenever the check on the whole body
-// (insert_cracks on every crack point, then the erosion of collapsed failed elements) changes it,
-// some part says it may change; after the check, which decided every point, the whole body says
-// no, and so does a part whose crack points are all its own.
+// changes it, some part's plan is not empty; after the check, which decided every point, the whole
+// body's plan is empty, and so is the plan of a part whose crack points are all its own.
 TEST_F(CrackForecastTest, PartsNeverMissAChangeOfTheWholeCheck)
 {
   Body whole = failed_bar(1500);
   FractureCheckRule rule;
   rule.dt = 5e-7;
-  const auto check_changes = [&](const Body& body) {
-    Body copy = body;
-    const bool split = !insert_cracks(copy, points(copy), 0).empty();
-    bool erodes = false;
-    for (int e : *copy.failed_elements())
-      erodes |= copy.mesh().active[e] && copy.element_time_step(e) < rule.dt;
-    return split || erodes;
-  };
   const auto parts_say = [&](const Body& body, int& own_and_no) {
     const std::vector<int> elem_part = partition_elements(body.mesh(), 3);
     bool any = false;
@@ -205,7 +208,8 @@ TEST_F(CrackForecastTest, PartsNeverMissAChangeOfTheWholeCheck)
       MeshPart part;
       PartTopology topo;
       const Body b = part_of(body, elem_part, k, part, topo);
-      const bool may = check_may_change(b, part_crack_nodes(part, topo, 0), rule);
+      const CrackNodes nodes = part_crack_nodes(part, topo, 0);
+      const bool may = !plan_of(b, points(b), rule, &nodes).empty();
       any |= may;
       bool own = true;
       for (int e : *b.failed_elements())
@@ -216,61 +220,52 @@ TEST_F(CrackForecastTest, PartsNeverMissAChangeOfTheWholeCheck)
     return any;
   };
   int quiet = 0;
-  ASSERT_TRUE(check_changes(whole));
+  ASSERT_FALSE(plan_of(whole, points(whole), rule).empty());
   EXPECT_TRUE(parts_say(whole, quiet));
-  EXPECT_TRUE(check_may_change(whole, whole_crack_nodes(whole, 0), rule));
-  insert_cracks(whole, points(whole), 0);
-  ASSERT_FALSE(check_changes(whole)); // the check decided every point
+  apply_fracture_plan(whole, plan_of(whole, points(whole), rule));
+  const FracturePlan after = plan_of(whole, points(whole), rule);
+  EXPECT_TRUE(after.empty()) << after.steps.size() << " steps left";
   parts_say(whole, quiet);
-  EXPECT_FALSE(check_may_change(whole, whole_crack_nodes(whole, 0), rule));
   EXPECT_GT(quiet, 0); // a part with its own crack points only: no gather needed
   FacePieces pieces;
   EXPECT_FALSE(pinch_may_separate(whole, pieces));
 }
 
 // Through the cracking of the torn bar (its splits at steps 50, 160 and 165, cuts with
-// min_size 0.2), at every third step between its checks: the dry run agrees with insert_cracks at
-// every crack point, with crack bands already split, points on one side of their plane and
-// points held back while the opening still carries tension; and whenever the whole check would
-// change the body, one of three parts of it says it may (the parts split by METIS, not keeping
-// crack clusters whole: some quiet steps all the same), each deciding its own crack points as the
-// whole body does.
-TEST_F(CrackForecastTest, TornBarDryRunAgreesThroughItsCracking)
+// min_size 0.2), at every third step between its checks: planning leaves the body alone; whenever
+// the whole check would change the body, one of three parts' plans is not empty (the parts split
+// by METIS, not keeping crack clusters whole: some quiet steps all the same); and a crack point of
+// a part's own gets the same answer as on the whole body (with cuts a superset: the part takes 1
+// for the pieces' fractions).
+TEST_F(CrackForecastTest, TornBarPartsAgreeWithTheWholeThroughItsCracking)
 {
   for (double min_size : {0.0, 0.2}) {
-    int yes = 0, points_seen = 0, changes = 0, parts_quiet = 0;
+    int points_seen = 0, changes = 0, parts_quiet = 0, own_points = 0;
     FractureCheckRule rule;
     rule.min_size = min_size;
     rule.dt = 2e-7;
     torn_bar(dir_, min_size, 40, 200, [&](const Body& body, int step) {
       SCOPED_TRACE(::testing::Message() << "step " << step << ", min_size " << min_size);
       points_seen += static_cast<int>(points(body).size());
-      yes += dry_run_agrees(body, min_size);
-      // The whole check (crack_body: splits and cuts, then the collapsed failed elements eroded)
-      // against three parts' forecasts.
-      Body copy = body;
-      std::vector<CutEvent> cuts;
-      bool changed = !insert_cracks(copy, points(copy), min_size, &cuts).empty() || !cuts.empty();
-      for (int e : *copy.failed_elements())
-        changed |= copy.mesh().active[e] && copy.element_time_step(e) < rule.dt;
+      const Body before = body;
+      const bool changed = !plan_of(body, points(body), rule).empty();
+      expect_same_body(body, before);
       const std::vector<int> elem_part = partition_elements(body.mesh(), 3);
-      const CrackNodes whole_nodes = whole_crack_nodes(body, min_size);
-      const auto fraction = [&body](int e) { return body.piece_fraction(e); };
+      FractureCheckRule point_rule = rule;
+      point_rule.erode = false;
       bool may = false;
       for (int k = 0; k < 3; ++k) {
         MeshPart part;
         PartTopology topo;
         const Body b = part_of(body, elem_part, k, part, topo);
         const CrackNodes nodes = part_crack_nodes(part, topo, min_size);
-        may |= check_may_change(b, nodes, rule);
-        // A point of the part's own: the same answer as on the whole body (with cuts a superset:
-        // the part takes 1 for the pieces' fractions).
+        may |= !plan_of(b, points(b), rule, &nodes).empty();
         for (int v : points(b)) {
           if (part.shared(v)) continue;
           const int g = part.global_node[v];
-          const bool mine = crack_point_may_split(b, v, nodes.on_crack, min_size);
-          const bool theirs =
-              crack_point_may_split(body, g, whole_nodes.on_crack, min_size, fraction);
+          const bool mine = !plan_of(b, {v}, point_rule, &nodes).empty();
+          const bool theirs = acts_at(plan_of(body, {g}, point_rule), g);
+          ++own_points;
           if (min_size > 0)
             EXPECT_TRUE(mine || !theirs) << "node " << g;
           else
@@ -282,7 +277,7 @@ TEST_F(CrackForecastTest, TornBarDryRunAgreesThroughItsCracking)
       parts_quiet += !may;
     });
     EXPECT_GT(points_seen, 1000);
-    EXPECT_GT(yes, 0);
+    EXPECT_GT(own_points, 100);
     EXPECT_GT(changes, 0);
     EXPECT_GT(parts_quiet, 0) << "the parts never rule a change out";
   }

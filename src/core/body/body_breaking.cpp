@@ -111,12 +111,6 @@ std::vector<int> partition_keeping_cracks(const Body& whole, const std::vector<i
     if (mesh.active[e]) part[e] = by_vertex[vertex[e]];
   return part;
 }
-
-int inactive_elements(const Mesh& mesh)
-{
-  return static_cast<int>(std::count(mesh.active.begin(), mesh.active.end(), 0));
-}
-
 } // namespace
 
 // Every decision of the replicated check (crack points, the collapsed elements it erodes) comes
@@ -134,35 +128,27 @@ void BodyDriver::distributed_fracture(std::int64_t step, double dt)
   if (body_.damaged_points() > 0)
     for (int e : *body_.failed_elements()) // a part's evaluation covers all its elements
       if (body_.mesh().active[e]) flag[0] = 1;
-  note_erosion();
-  flag[1] = flag[0] && fracture_may_change(dt) ? 1 : 0;
-  if (pinch_left_ || eroded_unchecked_ || (joints_left_ && failed_since_check())) flag[1] = 1;
+  const bool separation_due = separation_watch_.due(body_);
+  flag[1] = separation_due || (flag[0] && fracture_may_change(dt)) ? 1 : 0;
   host_.max_int(flag, 2);
   if (!flag[0] || !flag[1]) return;
   Body whole;
   std::vector<int> owner;
-  int changed[4] = {0, 0, 0, 0}; // topology changed, elements cut, a pinched node left, joints
+  int changed[4] = {0, 0, 0, 0}; // topology changed, elements cut, the outlook's two answers
   if (gather_whole(whole, owner)) {
-    std::vector<SplitEvent> events;
-    std::vector<CutEvent> cuts;
+    FractureOutcome out;
+    SeparationOutlook outlook;
     std::swap(body_, whole); // the replicated check and its log lines, on the whole body
-    changed[0] = crack_body(step, dt, events, cuts) ? 1 : 0;
-    changed[1] = cuts.empty() ? 0 : 1;
-    FacePieces pieces; // of the whole body, taken once for both answers
-    changed[2] = pinch_may_separate(body_, pieces) ? 1 : 0;
-    changed[3] = pieces_touch_at_nodes(body_, pieces) ? 1 : 0;
-    if (changed[0]) log_cracks(step, events, cuts);
+    changed[0] = crack_body(step, dt, out, &outlook) ? 1 : 0;
+    changed[1] = out.cuts.empty() ? 0 : 1;
+    changed[2] = outlook.pinch_left ? 1 : 0;
+    changed[3] = outlook.pieces_touch ? 1 : 0;
+    if (changed[0]) log_cracks(step, out);
     std::swap(body_, whole);
   }
   host_.max_int(changed, 4);
-  pinch_left_ = changed[2] != 0;
-  joints_left_ = changed[3] != 0;
-  eroded_unchecked_ = false;
-  note_failed_checked();
-  if (!changed[0]) {
-    inactive_checked_ = inactive_elements(body_.mesh());
-    return;
-  }
+  separation_watch_.checked(body_, {changed[2] != 0, changed[3] != 0});
+  if (!changed[0]) return;
   broken_ = true;
   std::vector<int> elem_part;
   if (host_.rank == 0) {
@@ -173,47 +159,24 @@ void BodyDriver::distributed_fracture(std::int64_t step, double dt)
   check_step_after_cracks(step, dt, changed[1] != 0);
 }
 
-// Whether the whole body's check may change anything at this part's failed elements: each crack
-// point whose star lies wholly in the part by the same decisions as insert_cracks
-// (crack_forecast.h), any other one as a change. The part's elements are pieces of cut elements
-// of unknown fraction: 1 is taken (an upper bound, so a cut the check would make is never missed).
+// Whether the whole body's check may change anything at this part's failed elements: the plan of
+// the check on the part is not empty (plan_fracture with the part's crack marks: a crack point
+// whose star is not wholly here is undecided, a change). The part's elements are pieces of cut
+// elements of unknown fraction: 1 is taken (an upper bound, so a cut the check would make is
+// never missed).
 bool BodyDriver::fracture_may_change(double dt)
 {
-  FractureCheckRule rule;
-  rule.min_size = spec_->min_size;
-  rule.erode_cracked = spec_->erode_cracked;
-  rule.dt = dt;
-  return check_may_change(body_, part_crack_nodes(part_, topo_, spec_->min_size), rule);
-}
-
-// The part's elements that have failed completely as of the last gathered check (or its new
-// part): a piece of the crack turns to debris only when its last element fails, so while the
-// whole body's pieces touch at nodes a newly failed element gathers the body at the next check.
-void BodyDriver::note_failed_checked()
-{
-  double n[3];
-  failed_checked_.assign(body_.mesh().num_elems(), 0);
-  for (int e = 0; e < body_.mesh().num_elems(); ++e)
-    failed_checked_[e] = body_.element_failure(e, n) >= 1.0 ? 1 : 0;
-}
-
-bool BodyDriver::failed_since_check() const
-{
   if (!body_.failed_elements()) return true; // the last evaluation saw part of the elements
-  for (int e : *body_.failed_elements())
-    if (body_.mesh().active[e] &&
-        (e >= static_cast<int>(failed_checked_.size()) || !failed_checked_[e]))
-      return true;
-  return false;
-}
-
-// An erosion between checks (section "Bodies that erode") may leave a node on a crack pinched,
-// which the next check separates: the part that eroded gathers the body at the next check. Kept
-// across a rebalance, which builds the part afresh.
-void BodyDriver::note_erosion()
-{
-  if (inactive_checked_ >= 0 && inactive_elements(body_.mesh()) != inactive_checked_)
-    eroded_unchecked_ = true;
+  FailureMap map;
+  build_failure_map(body_, map);
+  const CrackNodes nodes = part_crack_nodes(part_, topo_, spec_->min_size);
+  FracturePlanInput in;
+  in.points = crack_points(body_.mesh(), map);
+  in.failed = map.failed;
+  in.rule = fracture_rule(dt);
+  in.part = &nodes;
+  in.fraction = [](int) { return 1.0; };
+  return !plan_fracture(body_, in).empty();
 }
 
 // Every rank sends rank 0 its part (pack_part_whole); rank 0 (true) builds the whole body from the
@@ -297,8 +260,7 @@ void BodyDriver::adopt_part(const std::vector<double>& message)
   ghosts_.init(part_, std::move(surface));
   boxes_due_ = true;
   whole_mesh_known_ = false; // the parts changed: rank 0 gathers them again at the next erosion
-  inactive_checked_ = inactive_elements(body_.mesh());
-  note_failed_checked();
+  separation_watch_.adopted(body_);
   shared_sum_ = host_.shared_sum_for(part_);
   double pairs = 0;
   for (const PartNeighbour& nb : part_.neighbours)
@@ -322,7 +284,7 @@ void BodyDriver::check_balance(std::int64_t step)
   host_.sum(&work[1], 1);
   const double mean = work[1] / host_.nprocs;
   if (!(mean > 0) || !(work[0] / mean > spec_->rebalance)) return;
-  note_erosion(); // before the part is built afresh
+  separation_watch_.note_erosion(body_); // before the part is built afresh
   Body whole;
   std::vector<int> owner, elem_part;
   if (gather_whole(whole, owner)) {

@@ -1164,45 +1164,57 @@ void BodyDriver::take_held_body_contacts(const double* list, size_t n)
 void BodyDriver::fracture(std::int64_t step, double dt)
 {
   if (distributed_) return distributed_fracture(step, dt); // body_breaking.cpp
-  std::vector<SplitEvent> events;
-  std::vector<CutEvent> cuts;
-  if (!crack_body(step, dt, events, cuts)) return;
+  FractureOutcome out;
+  if (!crack_body(step, dt, out)) return;
   // Replicas must stay identical: a rank that split or cut differently stops the run at once.
   const int ne = body_.mesh().num_elems();
   int counts[4] = {body_.num_nodes(), -body_.num_nodes(), ne, -ne};
   host_.max_int(counts, 4);
   if (counts[0] != -counts[1] || counts[2] != -counts[3])
     fail("fix fem/body: ranks disagree on the cracked topology (replicas diverged)");
-  if (!cuts.empty()) share_element_work();
+  if (!out.cuts.empty()) share_element_work();
   rebuild_surfaces();
-  log_cracks(step, events, cuts);
-  check_step_after_cracks(step, dt, !cuts.empty());
+  log_cracks(step, out);
+  check_step_after_cracks(step, dt, !out.cuts.empty());
 }
 
-// The decisions of a fracture check on body_ (failure map, crack points, splits and cuts, the
-// collapsed failed elements eroded, with their log lines); whether the topology changed.
-bool BodyDriver::crack_body(std::int64_t step, double dt, std::vector<SplitEvent>& events,
-                            std::vector<CutEvent>& cuts)
+FractureCheckRule BodyDriver::fracture_rule(double dt) const
+{
+  FractureCheckRule rule;
+  rule.min_size = spec_->min_size;
+  rule.erode_cracked = spec_->erode_cracked;
+  rule.remove_mass = spec_->erosion.remove_mass;
+  rule.dt = dt;
+  return rule;
+}
+
+// One fracture check on body_: its plan (failure map, crack points, cuts and splits, partings,
+// the collapsed failed elements eroded) made and applied; whether the topology changed. outlook
+// (a gathered whole body): what the body looks like to the next checks.
+bool BodyDriver::crack_body(std::int64_t step, double dt, FractureOutcome& out,
+                            SeparationOutlook* outlook)
 {
   // An intact body (no damaged point in the last force evaluation; the element work of a
   // breaking body is done on every rank, so all see the same count) has nothing to check.
   if (body_.damaged_points() == 0) return false;
-  FailureMap& map = failure_map_;
-  if (build_failure_map(body_, map) == 0) return false;
-  const std::vector<int> points = crack_points(body_.mesh(), map);
-  if (!points.empty())
-    events = insert_cracks(body_, points, spec_->min_size, &cuts,
-                           distributed_ ? nullptr : &face_pieces_);
-  const int eroded = erode_collapsed(
-      step, dt, spec_->erode_cracked ? elements_on_crack(body_, map.failed) : map.failed);
-  return !(events.empty() && cuts.empty() && eroded == 0);
+  if (build_failure_map(body_, failure_map_) == 0) return false;
+  FracturePlanInput in;
+  in.points = crack_points(body_.mesh(), failure_map_);
+  in.failed = failure_map_.failed;
+  in.rule = fracture_rule(dt);
+  in.pieces = distributed_ ? nullptr : &face_pieces_;
+  in.outlook = outlook != nullptr;
+  const FracturePlan plan = plan_fracture(body_, in);
+  if (outlook) *outlook = plan.outlook;
+  out = apply_fracture_plan(body_, plan);
+  log_erosions(step, out.eroded);
+  return out.changed();
 }
 
-void BodyDriver::log_cracks(std::int64_t step, const std::vector<SplitEvent>& events,
-                            const std::vector<CutEvent>& cuts)
+void BodyDriver::log_cracks(std::int64_t step, const FractureOutcome& out)
 {
-  log_cuts(step, cuts);
-  log_splits(step, events);
+  log_cuts(step, out.cuts);
+  log_splits(step, out.splits);
   log_fragments(step);
 }
 
@@ -1261,22 +1273,14 @@ void BodyDriver::log_cuts(std::int64_t step, const std::vector<CutEvent>& cuts) 
           true, false);
 }
 
-// A failed element (no tension left) that has been squeezed into a sliver would collapse the
-// stable time step of the whole body: it is eroded (logged; its nodes keep their mass).
-// failed: the elements at failure measure 1, ascending (FailureMap::failed).
-int BodyDriver::erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed)
+// A failed element (no tension left) squeezed into a sliver would collapse the stable time step
+// of the whole body: the check erodes it (its nodes keep their mass unless remove_mass).
+void BodyDriver::log_erosions(std::int64_t step, const std::vector<int>& eroded) const
 {
-  std::vector<int> eroded;
-  for (int e : failed) {
-    if (!body_.mesh().active[e]) continue;
-    if (!spec_->erode_cracked && body_.element_time_step(e) >= dt) continue;
-    eroded.push_back(e);
+  for (int e : eroded)
     print(format(
         "fix fem/body %s: step %" PRId64 ": failed element %d %s, eroded\n", id_.c_str(), step, e,
         spec_->erode_cracked ? "carries no more tension" : "squeezed below the host time step"));
-  }
-  body_.erode(eroded, spec_->erosion.remove_mass);
-  return static_cast<int>(eroded.size());
 }
 
 // Every split in the log file; on the screen up to four, else their count.

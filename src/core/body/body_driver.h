@@ -19,6 +19,8 @@
 #include "body/facet_ghosts.h"
 #include "body/part_restart.h"
 #include "body/piece_ghosts.h"
+#include "fracture/fracture_plan.h"
+#include "fracture/separation_watch.h"
 #include "fracture/nodal_fracture.h"
 
 namespace fracdem
@@ -210,11 +212,11 @@ private:
   void follow_step_after_erosion(std::int64_t step, double dt);
   void erode_inverted(std::int64_t step, int e);
   std::string inverted_line(std::int64_t step, int e) const;
-  int erode_collapsed(std::int64_t step, double dt, const std::vector<int>& failed);
-  bool crack_body(std::int64_t step, double dt, std::vector<SplitEvent>& events,
-                  std::vector<CutEvent>& cuts);
-  void log_cracks(std::int64_t step, const std::vector<SplitEvent>& events,
-                  const std::vector<CutEvent>& cuts);
+  FractureCheckRule fracture_rule(double dt) const;
+  bool crack_body(std::int64_t step, double dt, FractureOutcome& out,
+                  SeparationOutlook* outlook = nullptr);
+  void log_cracks(std::int64_t step, const FractureOutcome& out);
+  void log_erosions(std::int64_t step, const std::vector<int>& eroded) const;
   void log_splits(std::int64_t step, const std::vector<SplitEvent>& events) const;
   void log_cuts(std::int64_t step, const std::vector<CutEvent>& cuts) const;
   void share_element_work();
@@ -334,17 +336,7 @@ private:
   PartTopology topo_;
   bool broken_ = false;
   int whole_split_nodes_ = 0, whole_fragments_ = 1;
-  // The forecast of the fracture check (body_breaking.cpp): whether the whole body held a pinched
-  // node on a crack after the last gathered check (true until one has been made), this part's
-  // eroded elements then (-1: none made) and whether it eroded since (kept across a rebalance).
-  // Whether the whole body's pieces then touched at nodes (joints that a piece turning to debris,
-  // its last element failing, may make a last bond), and per element of this part whether it had
-  // failed (a newly failed element then gathers the body: fracture.md, stage 3).
-  bool pinch_left_ = true;
-  int inactive_checked_ = -1;
-  bool eroded_unchecked_ = false;
-  bool joints_left_ = false;
-  std::vector<char> failed_checked_;
+  SeparationWatch separation_watch_; // between gathered fracture checks (body_breaking.cpp)
   long long interface_pairs_ = 0;
   // A distributed body that erodes: this part's erosions (global element numbers) in the force
   // evaluations since the last follow-up (fe: their index there), its own stable steps after each

@@ -6,7 +6,7 @@
 
 #include "body/body_partition.h"
 #include "fem/body.h"
-#include "fracture/crack_forecast.h"
+#include "fracture/fracture_plan.h"
 
 namespace fracdem
 {
@@ -50,7 +50,7 @@ struct PartTopology {
 // The same of a whole body (global numbers are its own).
 PartTopology whole_topology(const Body& whole);
 
-// The part's nodes as the fracture check on the whole body sees them (crack_forecast.h): split
+// The part's nodes as the fracture check on the whole body sees them (fracture_plan.h): split
 // and cut nodes of the whole body from its topology, whole stars where the part alone uses a node.
 // Topology fields that were never set (an intact body's part) mark no node on a crack; where they
 // are missing on a cracked part no star counts as whole (every check may change).

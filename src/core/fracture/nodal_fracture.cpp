@@ -1,7 +1,8 @@
-// Nodal fracture: failure map, crack points, cuts through elements (min_size) and node splits.
+// Nodal fracture's rules: failure map, crack points and the decisions of a check (fracture_rules.h).
 #include "fracture/nodal_fracture.h"
 
 #include "fracture/element_cut.h"
+#include "fracture/fracture_rules.h"
 #include "materials/material_table.h"
 #include "materials/rankine.h"
 
@@ -15,6 +16,7 @@
 
 namespace fracdem
 {
+using namespace fracture_rules;
 
 int build_failure_map(const Body& body, FailureMap& map)
 {
@@ -44,7 +46,7 @@ std::vector<int> crack_points(const Mesh& mesh, const FailureMap& map)
   return points;
 }
 
-namespace
+namespace fracture_rules
 {
 // The most failed element around node v (lowest index among equals), or -1 when none has
 // failed completely. Its crack normal goes to n.
@@ -69,7 +71,7 @@ int driving_element(const Body& body, int v, double n[3])
 // side would open a second, parallel crack and cut the band out as a sliver fragment. Nodes
 // on the same crack line (within a third of the element's size of the plane) continue it.
 bool band_already_cracked(const Body& body, const std::vector<char>& on_crack, int e, int v,
-                          const double n[3], double line_tolerance = 1.0 / 3.0)
+                          const double n[3], double line_tolerance)
 {
   const Mesh& mesh = body.mesh();
   const double* x = body.positions().data();
@@ -385,8 +387,7 @@ int walk_side(const Body& body, const SplitPlan& plan, char s, bool stop_at_inta
 
 // A split that would cut loose a piece of completely failed elements (a chip of the band, or a
 // failed min_size piece of a cut element: it carries nothing and would fly off) waits.
-bool cuts_loose_chip(const Body& body, const SplitPlan& plan,
-                     const std::vector<char>* whole_star = nullptr)
+bool cuts_loose_chip(const Body& body, const SplitPlan& plan, const std::vector<char>* whole_star)
 {
   return walk_side(body, plan, 2, true, whole_star) == 2 ||
          walk_side(body, plan, 1, true, whole_star) == 2;
@@ -614,30 +615,6 @@ std::set<std::pair<int, int>> parting_pairs(const Body& body, const std::vector<
   return parting;
 }
 
-// Splits node w into one node per class of its star's elements (class_of), logged with a zero
-// normal; the class with most elements (lowest among equals) keeps w.
-void part_node(Body& body, int w, const std::function<int(int)>& class_of,
-               std::vector<SplitEvent>& events)
-{
-  std::map<int, int> size;
-  for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
-    ++size[class_of(*e)];
-  if (size.size() < 2) return;
-  int keep = size.begin()->first;
-  for (const auto& c : size)
-    if (c.second > size[keep]) keep = c.first;
-  for (const auto& c : size) {
-    if (c.first == keep) continue;
-    SplitPlan plan;
-    plan.node = w;
-    for (const int* e = body.stars().begin(w); e != body.stars().end(w); ++e)
-      (class_of(*e) == c.first ? plan.side_b : plan.side_a).push_back(*e);
-    SplitEvent ev{w, -1, {0, 0, 0}, static_cast<int>(plan.side_b.size())};
-    ev.copy = body.split_node(plan);
-    events.push_back(ev);
-  }
-}
-
 // The classes a split node's star parts into, per star element: the pieces of the star that
 // touch only at the node (joined through facets within the star, as plan_star_separation takes
 // them: a crack through the node separates them even where they meet again beyond the crack's
@@ -706,43 +683,6 @@ void keep_pieces_after_parting(const Body& body, int first_copy, FacePieces& fp)
   fp.key[0] = body.num_nodes();
 }
 
-// Fragments are never held together by a single node whose star fell into pieces that touch
-// only at it, once it is split (a split node or its copy: cracks on several sides of it): it is
-// split into one node per face-connected piece at once, but debris stays with the group that
-// owns it (pinch_groups: no chip is cut loose). The nodes that still join groups (never split:
-// a surface node at a crack's mouth, one between two cracks) are joints without material area:
-// the joints between two groups go together, as the last bond between them, where neither is
-// a chip, once they pull the groups apart with more than the unfailed material across them
-// could carry (parting_pairs). Ascending order: the same decisions on every replica. Parting a
-// node cuts no facet, so the pieces and groups stay those of the start of the pass.
-void separate_pinched_nodes(Body& body, std::vector<SplitEvent>& events, FacePieces& pieces)
-{
-  const std::vector<int> candidates = pinch_candidates(body);
-  if (candidates.empty()) return; // no crack: no piece touches another at a node only
-  std::vector<char> split(body.num_nodes(), 0), whole;
-  for (const SplitEvent& ev : events)
-    split[ev.node] = 1;
-  const FacePieces& fp = face_pieces(body, pieces);
-  const std::vector<int>& piece = fp.piece;
-  const std::vector<int> group = pinch_groups(body, fp, whole);
-  const int first_copy = body.num_nodes();
-  for (int v : candidates)
-    if (body.parents()[v] >= 0 || split[v]) {
-      const std::map<int, int> cls = star_classes(body, v, piece, group, whole);
-      part_node(body, v, [&](int e) { return cls.at(e); }, events);
-    }
-  const Joints joints = group_joints(body, fp, group);
-  const std::set<std::pair<int, int>> parting = parting_pairs(body, group, whole, joints);
-  std::set<int> nodes;
-  for (const auto& pair : parting)
-    nodes.insert(joints.at(pair).begin(), joints.at(pair).end());
-  for (int w : nodes) {
-    const std::map<int, int> cls = joined_classes(body, w, group, parting);
-    part_node(body, w, [&](int e) { return cls.at(group[e]); }, events);
-  }
-  keep_pieces_after_parting(body, first_copy, pieces);
-}
-
 // Whether a cut would split a quad4 that has failed completely: both pieces keep its crack
 // strain, which their re-interpolated displacement (linear in the tri3 piece) does not fit, so
 // the tri3 piece is pressed elastically (the free quad bar of test_fracture_quad_cut: -71 MPa,
@@ -760,32 +700,7 @@ bool cut_splits_failed_quad(const Body& body, const ElementCut& cut)
   return false;
 }
 
-// Cuts through the elements of v's star that the failure plane crosses (each cut adds a node,
-// which is on no crack yet). A cut puts a face in the plane and so competes with every later
-// one: a handful per point at most; the bound only guards the loop.
-void cut_star(Body& body, int v, const double n[3], double min_size, std::vector<char>& on_crack,
-              std::vector<CutEvent>* cuts)
-{
-  constexpr int kMaxCutsPerPoint = 8;
-  for (int k = 0; k < kMaxCutsPerPoint; ++k) {
-    const ElementCut cut =
-        find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n, min_size,
-                         [&body](int e) { return body.piece_fraction(e); });
-    if (!cut.found() || cut_splits_failed_quad(body, cut)) return;
-    CutEvent ev{v, cut.elem, cut.u, cut.w, cut.t, -1, {}};
-    std::vector<int> added;
-    ev.new_node = body.bisect_edge(cut.u, cut.w, cut.t, &added, cut.joins);
-    on_crack.push_back(1); // on the crack's line: where it goes on
-    // elem's child first, then the neighbours'.
-    for (int c : added)
-      if (body.element_parent(c) == cut.elem) ev.new_elems.push_back(c);
-    for (int c : added)
-      if (body.element_parent(c) != cut.elem) ev.new_elems.push_back(c);
-    if (cuts) cuts->push_back(ev);
-  }
-}
-
-} // namespace
+} // namespace fracture_rules
 
 std::vector<char> split_nodes(const Body& body)
 {
@@ -819,7 +734,7 @@ bool pinch_may_separate(const Body& body, FacePieces& pieces)
   const std::vector<int>& piece = fp.piece;
   std::vector<char> whole;
   const std::vector<int> group = pinch_groups(body, fp, whole);
-  for (int v : candidates) // a split node parts at once (separate_pinched_nodes)
+  for (int v : candidates) // a split node parts at once (plan_separation)
     if (body.parents()[v] >= 0) {
       std::set<int> classes;
       for (const auto& c : star_classes(body, v, piece, group, whole))
@@ -849,45 +764,6 @@ bool pieces_touch_at_nodes(const Body& body, FacePieces& pieces)
   return !face_pieces(body, pieces).joint_nodes.empty();
 }
 
-std::vector<SplitEvent> insert_cracks(Body& body, const std::vector<int>& points, double min_size,
-                                      std::vector<CutEvent>* cuts, FacePieces* pieces)
-{
-  // Nodes on a physical crack: split nodes and their copies (and, with cuts, the nodes made on
-  // a crack's line by a cut, where the crack goes on).
-  std::vector<char> on_crack = split_nodes(body);
-  const bool cutting = min_size > 0;
-  if (cutting)
-    for (size_t k = 0; k < body.cut_nodes().size(); k += 3)
-      on_crack[body.cut_nodes()[k]] = 1;
-  // A cut crack runs exactly along its plane, so only nodes much nearer to it than a third of
-  // an element (those the min_size guard kept the cut from passing beside) continue it.
-  const double line_tolerance = cutting ? std::min(1.0 / 3.0, 0.5 * min_size) : 1.0 / 3.0;
-  std::vector<SplitEvent> events;
-  for (int v : points) {
-    // Re-checked here: a split earlier in this pass may have opened this band already.
-    double n[3] = {0, 0, 0};
-    const int e = driving_element(body, v, n);
-    if (e < 0 || band_already_cracked(body, on_crack, e, v, n, line_tolerance)) continue;
-    // With cuts the check comes before them (they change the star), on the plan of the star
-    // as it is; the split then opens along the cut.
-    if (cutting) {
-      if (opening_carries_tension(body, body.plan_split(v, n), n)) continue;
-      cut_star(body, v, n, min_size, on_crack, cuts);
-    }
-    const SplitPlan plan = body.plan_split(v, n);
-    if (!plan.splittable() || (!cutting && opening_carries_tension(body, plan, n))) continue;
-    if (cuts_loose_chip(body, plan)) continue;
-    SplitEvent ev{v, -1, {n[0], n[1], n[2]}, static_cast<int>(plan.side_b.size())};
-    ev.copy = body.split_node(plan);
-    on_crack[v] = 1;
-    on_crack.push_back(1);
-    events.push_back(ev);
-  }
-  FacePieces taken;
-  separate_pinched_nodes(body, events, pieces ? *pieces : taken);
-  return events;
-}
-
 std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& failed)
 {
   const std::vector<char> split = split_nodes(body);
@@ -900,28 +776,6 @@ std::vector<int> elements_on_crack(const Body& body, const std::vector<int>& fai
         break;
       }
   return reached;
-}
-
-// Mirrors one pass of insert_cracks' loop at v on an unchanged body: with cuts, the tension check
-// on the star's plan comes first, then a cut or a splittable plan changes the body; without, a
-// splittable plan whose opening carries no tension. The line tolerance is insert_cracks'.
-bool crack_point_may_split(const Body& body, int v, const std::vector<char>& on_crack,
-                           double min_size, const std::function<double(int)>& fraction,
-                           const std::vector<char>* whole_star)
-{
-  const bool cutting = min_size > 0;
-  const double line_tolerance = cutting ? std::min(1.0 / 3.0, 0.5 * min_size) : 1.0 / 3.0;
-  double n[3] = {0, 0, 0};
-  const int e = driving_element(body, v, n);
-  if (e < 0 || band_already_cracked(body, on_crack, e, v, n, line_tolerance)) return false;
-  const SplitPlan plan = body.plan_split(v, n);
-  if (opening_carries_tension(body, plan, n)) return false;
-  if (cutting && find_element_cut(body.mesh(), body.stars(), body.positions().data(), v, n,
-                                  min_size, fraction)
-                     .found())
-    return true;
-  // The chip rule, where this body can tell (a walk that would leave a part: may split).
-  return plan.splittable() && !cuts_loose_chip(body, plan, whole_star);
 }
 
 std::vector<double> fragment_masses(const Body& body)
