@@ -289,9 +289,6 @@ private:
   void adopt_part(const std::vector<double>& message);
   void count_whole(const Body& whole);
   bool fracture_may_change(double dt);
-  void note_erosion();
-  void note_failed_checked();
-  bool failed_since_check() const;
   void check_balance(std::int64_t step);
   bool choose_distributed(int dimension, Mesh& whole, bool& have_whole);
   void fail_one(const std::string& text) const;
