@@ -111,18 +111,9 @@ BodyDriver::~BodyDriver()
       m->pairs_.clear();
       m->pair_body_ = nullptr;
     }
-  // A body leaving (unfix) disbands its scene: the others point to none until the next run's
-  // set_partners makes a new one (the first body owns it; the members are in its list).
-  BodyDriver* owner = scene_owner_;
-  if (!owner) return;
-  std::vector<BodyDriver*>& members = owner->scene_members_;
-  for (BodyDriver* m : members) {
-    if (m == this) continue;
-    m->scene_ = nullptr;
-    m->scene_owner_ = nullptr;
-  }
-  if (owner != this)
-    members.erase(std::remove(members.begin(), members.end(), this), members.end());
+  // A body leaving (unfix) disbands its scene: the others are in none until the next run's
+  // set_partners makes a new one.
+  if (coordinator_) coordinator_->disband();
 }
 
 void BodyDriver::attach(const BodySpec& spec, const std::string& fix_id, BodyHost host)
@@ -330,7 +321,8 @@ SurfaceContactOptions BodyDriver::surface_options(int, double other_E, double fr
   return so;
 }
 
-// The first body sets up the scene of all; each keeps its own friction for its pairs.
+// The first replicated body sets up the scene of all (its coordinator, contact_coordinator.h);
+// each keeps its own friction for its pairs.
 void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
                               const std::vector<BodyDriver*>& earlier,
                               const std::function<double(int, int)>& friction)
@@ -347,89 +339,66 @@ void BodyDriver::set_partners(const std::vector<BodyDriver*>& later,
   take_pair_group(pair_group(all));
   std::vector<BodyDriver*> members;
   for (BodyDriver* m : all)
-    if (!m->distributed_) members.push_back(m);
+    if (!m->distributed()) members.push_back(m);
   if (distributed_ || members.front() != this) {
     if (!distributed_ && spec_->have_contact_balance)
       fail(prefix() +
            "keyword 'contact_balance' belongs on the first fix fem/body with "
            "'contact_bodies yes' (fix " +
            members.front()->id_ + "), which holds the contact scene of all of them");
-    scene_owned_.reset(); // the scene is the first replicated body's
+    if (distributed_) join_scene(nullptr, -1);
     rebuild_surfaces();
     return;
   }
-  // A new run with the same bodies: the pieces' contacts, spread over the ranks' parts, are
-  // gathered first (the new scene starts without a partition), and the new scene takes the
-  // contacts between the bodies (configure_scene). A scene not yet evaluated (a second call
-  // before a step, e.g. write_restart's) keeps those carried into it.
-  const bool evaluated = scene_owned_ && scene_owned_->size() > 0;
-  scene_continues_ = members == scene_members_ && (evaluated || scene_continues_);
-  if (scene_continues_ && evaluated) {
-    for (int m = 0; m < scene_owned_->size(); ++m)
-      scene_owned_->gather_self_state(m);
-    carried_pair_state_ = scene_pair_records();
-  } else if (members != scene_members_) {
-    carried_pair_state_.clear();
-    take_restored_scene_pairs(members); // after a restart: the file's contacts of these bodies
+  std::vector<const void*> keys;
+  std::vector<SceneBody> bodies;
+  for (BodyDriver* m : members) {
+    keys.push_back(m);
+    bodies.push_back(m->scene_member());
   }
-  scene_owned_ = std::make_unique<ContactScene>();
-  scene_members_ = members;
-  for (size_t m = 0; m < members.size(); ++m) {
-    members[m]->scene_ = scene_owned_.get();
-    members[m]->scene_owner_ = this;
-    members[m]->scene_index_ = static_cast<int>(m);
-  }
-  scene_pending_ = true;
+  const std::shared_ptr<ContactCoordinator> scene =
+      ContactCoordinator::renew(coordinator_, keys, std::move(bodies), scene_settings());
+  for (size_t m = 0; m < members.size(); ++m)
+    members[m]->join_scene(scene, static_cast<int>(m));
   rebuild_surfaces();
 }
 
-// At the first evaluation of a run (every body's set_partners has run): the pair (a, b), a < b,
-// takes body a's settings and friction, as body a computed it before the scene.
-void BodyDriver::configure_scene()
+SceneBody BodyDriver::scene_member()
 {
-  scene_pending_ = false;
-  const ContactBalance& balance = spec_->contact_balance;
-  if (balance.parts > 1 && host_.nprocs > 1 && balance.parts != host_.nprocs)
-    fail(prefix() + "keyword 'contact_balance': 'parts " + std::to_string(balance.parts) +
-         "' models that many ranks in a one-rank run; under " + std::to_string(host_.nprocs) +
-         " ranks the parts are the ranks (leave 'parts' out)");
-  const size_t n = scene_members_.size();
-  std::vector<SceneMember> members(n);
-  std::vector<SurfaceContactOptions> pairs(n * (n - 1) / 2);
-  for (size_t b = 0; b < n; ++b) {
-    BodyDriver* mb = scene_members_[b];
-    members[b] = {&mb->surface_, &mb->self_contact_,
-                  mb->spec_->contact_edges ? &mb->self_edges_ : nullptr};
-    const int tb = mb->spec_->surface_type;
-    for (size_t a = 0; a < b; ++a) {
-      BodyDriver* ma = scene_members_[a];
-      const int ta = ma->spec_->surface_type;
-      pairs[ContactScene::pair_index(static_cast<int>(a), static_cast<int>(b))] =
-          ma->surface_options(tb, mb->spec_->material.E, ma->friction_(ta, tb));
-    }
-  }
-  SceneComm comm{host_.rank, host_.nprocs, host_.sum,
-                 // repartitions can come every check: the log file only
-                 [this](const std::string& line) { print(prefix() + line, false, true); }};
-  try {
-    scene_owned_->configure(std::move(members), std::move(pairs), balance, std::move(comm));
-    restore_scene_pairs();
-  } catch (const std::exception& e) {
-    fail(prefix() + e.what());
-  }
-  const int parts = scene_owned_->parts();
-  if (n > 1 || parts > 1)
-    print(prefix() + format("contact scene of %zu bodies, one search over their surfaces; "
-                            "contact work %s\n",
-                            n,
-                            parts == 1
-                                ? "on one rank"
-                                : format("over %d %s, %s model, thresh %g, every %d", parts,
-                                         host_.nprocs > 1 ? "ranks" : "model parts",
-                                         balance.model == ContactBalance::APriori ? "a priori"
-                                                                                  : "a posteriori",
-                                         balance.thresh, balance.every)
-                                      .c_str()));
+  SceneBody b;
+  b.id = id_;
+  b.surface = &surface_;
+  b.self = &self_contact_;
+  b.edges = spec_->contact_edges ? &self_edges_ : nullptr;
+  b.body = &body_;
+  b.surface_type = spec_->surface_type;
+  b.youngs = spec_->material.E;
+  b.options = [this](int type, double E, double friction) {
+    return surface_options(type, E, friction);
+  };
+  b.friction = &friction_;
+  b.contacts_held = &contacts_held_;
+  b.restored = &restored_pairs_;
+  return b;
+}
+
+void BodyDriver::join_scene(std::shared_ptr<ContactCoordinator> coordinator, int index)
+{
+  coordinator_ = std::move(coordinator);
+  scene_index_ = index;
+}
+
+// The first member's host reports for the scene (repartitions of its contact work can come
+// every check: the log file only).
+ContactCoordinator::Settings BodyDriver::scene_settings()
+{
+  ContactCoordinator::Settings st;
+  st.balance = spec_->contact_balance;
+  st.comm = SceneComm{host_.rank, host_.nprocs, host_.sum,
+                      [this](const std::string& line) { print(prefix() + line, false, true); }};
+  st.fail = [this](const std::string& text) { fail(prefix() + text); };
+  st.print = [this](const std::string& line) { print(prefix() + line); };
+  return st;
 }
 
 void BodyDriver::set_gravity(const double g[3])
@@ -675,7 +644,7 @@ void BodyDriver::compute_forces(const ParticleArrays* particles, std::int64_t st
   // Contact between the body's pieces and with other bodies: each rank takes the surface nodes
   // of its part of the scene (without a scene, rank 0 all), into the contact forces the ranks
   // sum.
-  if (spec_->contact_bodies > 0 && (scene_ || host_.rank == 0))
+  if (spec_->contact_bodies > 0 && (in_scene() || host_.rank == 0))
     body_contact_forces(step, dt, count_work);
   ParticleFacetResult res;
   if (particles) {
@@ -980,7 +949,7 @@ void BodyDriver::rebuild_surfaces()
     surface_.build(body_.mesh(), contact_.facets());
   self_contact_.invalidate();
   self_edges_.invalidate();
-  if (scene_) scene_->invalidate();
+  if (in_scene()) coordinator_->invalidate();
   // The pairs of a distributed body with replicated ones: maps of the new surface, the edge
   // contact's search afresh.
   if (distributed_) pair_maps_due_ = true;
@@ -993,26 +962,16 @@ void BodyDriver::rebuild_surfaces()
 // pieces only, on rank 0.
 int BodyDriver::body_contacts(std::int64_t step, double dt)
 {
-  if (!scene_) {
+  if (!in_scene()) {
     ContactBodyState me{body_.positions().data(), body_.velocities().data(), body_.masses().data(),
                         body_.contact_forces()};
     int n = self_contact_.evaluate(surface_, me, surface_, me, true, dt);
     if (spec_->contact_edges) n += self_edges_.evaluate(surface_, me, surface_, me, true, dt);
     return n;
   }
-  if (scene_owner_->scene_pending_) scene_owner_->configure_scene();
-  const std::vector<BodyDriver*>& members = scene_owner_->scene_members_;
-  std::vector<ContactBodyState> states(members.size());
-  for (size_t m = 0; m < members.size(); ++m) {
-    Body& b = members[m]->body_;
-    const int k = static_cast<int>(m);
-    double* f = k == scene_index_  ? b.contact_forces()
-                : k > scene_index_ ? b.pending_contact_forces()
-                                   : nullptr;
-    states[m] = {b.positions().data(), b.velocities().data(), b.masses().data(), f};
-  }
+  coordinator_->configure_if_pending();
   try {
-    return scene_->evaluate_body(scene_index_, states, step, dt);
+    return coordinator_->evaluate(scene_index_, step, dt);
   } catch (const std::runtime_error& e) {
     fail(prefix() + e.what());
   }
@@ -1053,14 +1012,10 @@ bool BodyDriver::replays_body_contacts(bool count_work) const
       if (!m->contacts_held_) return false;
     return true;
   }
-  if (!scene_) return contacts_held_;
+  if (!in_scene()) return contacts_held_;
   // Bodies in contact with each other: only where they are the last run's and their pairs go on
-  // (a partner gone would still push; after a restart, where the file held their pairs:
-  // take_restored_scene_pairs, docs/fix_fem_body.md).
-  if (scene_owner_->scene_members_.size() > 1 && !scene_owner_->scene_continues_) return false;
-  for (const BodyDriver* m : scene_owner_->scene_members_)
-    if (!m->contacts_held_) return false;
-  return true;
+  // (docs/fix_fem_body.md).
+  return coordinator_->replays();
 }
 
 // After a counted evaluation, before particle contact adds to them: the contact forces of this
@@ -1092,7 +1047,7 @@ void BodyDriver::hold_body_contacts()
 // record (the whole body's sums) those of the nodes it owns.
 void BodyDriver::replay_body_contacts()
 {
-  if (scene_ && scene_owner_->scene_pending_) scene_owner_->configure_scene();
+  if (in_scene()) coordinator_->configure_if_pending();
   const std::vector<int> local =
       distributed_ ? local_of_global(part_.global_node, global_nodes_) : std::vector<int>();
   double* f = body_.contact_forces();
@@ -1584,7 +1539,7 @@ void BodyDriver::write_restart(std::FILE* fp) const
 {
   // The pieces' contacts are spread over the ranks' parts of the scene, or over the parts of a
   // distributed body: gathered (every rank; where they are changes, not what they are).
-  if (scene_ && scene_->size() > scene_index_) scene_->gather_self_state(scene_index_);
+  if (in_scene()) coordinator_->gather_self_state(scene_index_);
   if (distributed_ && spec_->contact_bodies > 0)
     const_cast<BodyDriver*>(this)->gather_piece_state();
   const std::vector<double> held = held_body_contacts_record(); // every rank

@@ -15,6 +15,7 @@
 #include "contact/surface_contact.h"
 #include "fem/body.h"
 #include "body/body_partition.h"
+#include "body/contact_coordinator.h"
 #include "body/body_spec.h"
 #include "body/facet_ghosts.h"
 #include "body/part_restart.h"
@@ -176,8 +177,12 @@ public:
   double stable_dt() const { return dt_stable_; }
   int contacts() const { return ncontacts_; }
   // The contact scene this body belongs to (null: none set up yet) and its index there.
-  const ContactScene* contact_scene() const { return scene_; }
+  const ContactScene* contact_scene() const { return in_scene() ? coordinator_->scene() : nullptr; }
   int scene_index() const { return scene_index_; }
+  // What this body lends the contact scene of the replicated bodies (contact_coordinator.h), and
+  // its place there (set by the first member's set-up of a run).
+  SceneBody scene_member();
+  void join_scene(std::shared_ptr<ContactCoordinator> coordinator, int index);
   // FE steps of the host step under way (or of the first step of a run, after set-up), and of
   // the next host step (changed by the stable step's re-estimates).
   int substeps() const { return step_substeps_; }
@@ -232,7 +237,8 @@ private:
   const std::vector<char>* mark_inelastic_nodes();
   const double* contact_masses();
   SurfaceContactOptions surface_options(int other_type, double other_E, double friction) const;
-  void configure_scene();
+  bool in_scene() const { return coordinator_ && coordinator_->active(); }
+  ContactCoordinator::Settings scene_settings();
   int body_contacts(std::int64_t step, double dt);
   // The contact of the pieces and with other bodies (contact_bodies yes), or at the set-up of a
   // run that goes on, its forces at the last counted evaluation (body_driver.cpp, "held contact
@@ -304,9 +310,6 @@ private:
   // The contacts between bodies carried into the next run and in restart records
   // (pair_restart.cpp): records of (first body's ID, second's, state), either holder's alike.
   std::vector<double> pair_records() const;
-  std::vector<double> scene_pair_records() const;
-  void take_restored_scene_pairs(const std::vector<BodyDriver*>& members);
-  void restore_scene_pairs();
   void take_restored_body_pairs();
   static void drop_restored_pairs(const std::vector<BodyDriver*>& bodies);
   std::vector<double> record_with(const std::vector<double>& held) const;
@@ -405,16 +408,10 @@ private:
   std::vector<std::vector<double>> pair_out_, pair_in_;
   SurfaceContact self_contact_; // kept here, not in the scene: its state is in the restart
   EdgeContact self_edges_;      // 3D edge to edge of the pieces (restart head section 2)
-  // Body-body contact: the scene (owned by the first body, which lists the members, configures
-  // it at the first evaluation of a run and keeps the pair settings), this body's index there.
-  std::unique_ptr<ContactScene> scene_owned_;
-  ContactScene* scene_ = nullptr;
-  BodyDriver* scene_owner_ = nullptr;
+  // Body-body contact: the coordinator of the replicated bodies' scene (every member holds it)
+  // and this body's index there.
+  std::shared_ptr<ContactCoordinator> coordinator_;
   int scene_index_ = -1;
-  std::vector<BodyDriver*> scene_members_;
-  bool scene_pending_ = false;
-  bool scene_continues_ = false; // its members are those of the last run
-  std::vector<double> carried_pair_state_; // their pairs' contacts (records), for the next scene
   // The restart record's contacts between bodies (records), until the first evaluation.
   std::vector<double> restored_pairs_;
   std::function<double(int, int)> friction_;

@@ -2,6 +2,7 @@
 // contact scene's pairs and a distributed body's pairs with replicated bodies, as records of
 // (first body's fix ID, second's, state) that either holder reads.
 #include "body/body_driver.h"
+#include "body/pair_records.h"
 
 #include <stdexcept>
 
@@ -10,14 +11,6 @@ namespace fracdem
 
 namespace
 {
-
-// One pair: the fix IDs of its bodies (the earlier fix first, as the scene orders them) and its
-// state as ContactScene::pair_state lays it out (nodes of the first on facets of the second,
-// the other way, edge pairs with the first body's edge first).
-struct PairRecord {
-  std::string first, second;
-  std::vector<double> state;
-};
 
 [[noreturn]] void corrupt()
 {
@@ -31,7 +24,8 @@ void put_id(const std::string& id, std::vector<double>& out)
     out.push_back(static_cast<double>(c));
 }
 
-// Records one after the other: ID, ID (length, characters), state length, state.
+} // namespace
+
 void put_pair(const PairRecord& r, std::vector<double>& out)
 {
   put_id(r.first, out);
@@ -79,28 +73,12 @@ const PairRecord* find_pair(const std::vector<PairRecord>& records, const std::s
   return nullptr;
 }
 
-} // namespace
-
-// Every pair of the scene (every rank enters: the state is summed over the parts holding it).
-std::vector<double> BodyDriver::scene_pair_records() const
-{
-  std::vector<double> out;
-  const int n = scene_owned_->size();
-  for (int b = 1; b < n; ++b)
-    for (int a = 0; a < b; ++a)
-      put_pair({scene_members_[a]->id_, scene_members_[b]->id_, scene_owned_->pair_state(a, b)},
-               out);
-  return out;
-}
-
-// The pairs this body holds, for its restart record: the first body of a scene of several (one
-// not evaluated since its set-up, as write_restart sets the bodies up before it writes, has its
-// state still to take: carried_pair_state_), or a distributed body (rank 0's state, which
-// evaluates its pairs and writes the file).
+// The pairs this body holds, for its restart record: the first body of a scene of several (its
+// coordinator's), or a distributed body (rank 0's state, which evaluates its pairs and writes the
+// file).
 std::vector<double> BodyDriver::pair_records() const
 {
-  if (scene_owned_ && scene_members_.size() > 1)
-    return scene_owned_->size() > 0 ? scene_pair_records() : carried_pair_state_;
+  if (in_scene() && scene_index_ == 0) return coordinator_->pair_records();
   std::vector<double> out;
   if (!distributed_) return out;
   for (const BodyPair& p : pairs_) {
@@ -112,51 +90,6 @@ std::vector<double> BodyDriver::pair_records() const
              out);
   }
   return out;
-}
-
-// After a restart: where the file holds every pair of these bodies (same fix IDs, whichever body
-// held them, replicated or distributed), the scene goes on with them and its set-up replays the
-// held forces (replays_body_contacts); otherwise the pairs start afresh.
-void BodyDriver::take_restored_scene_pairs(const std::vector<BodyDriver*>& members)
-{
-  std::vector<PairRecord> records;
-  try {
-    for (const BodyDriver* m : members)
-      for (PairRecord& r : read_pairs(m->restored_pairs_))
-        records.push_back(std::move(r));
-  } catch (const std::exception& e) {
-    fail(prefix() + e.what());
-  }
-  if (records.empty() || members.size() < 2) return;
-  std::vector<double> carried;
-  for (size_t b = 1; b < members.size(); ++b)
-    for (size_t a = 0; a < b; ++a) {
-      const PairRecord* r = find_pair(records, members[a]->id_, members[b]->id_);
-      if (!r) return;
-      put_pair(*r, carried);
-    }
-  carried_pair_state_ = std::move(carried);
-  scene_continues_ = true;
-}
-
-// At the scene's first evaluation: the carried pairs into the new scene (configured: its pairs
-// exist); the restored records are spent.
-void BodyDriver::restore_scene_pairs()
-{
-  try {
-    for (const PairRecord& r : read_pairs(carried_pair_state_)) {
-      int a = -1, b = -1;
-      for (int m = 0; m < static_cast<int>(scene_members_.size()); ++m) {
-        if (scene_members_[m]->id_ == r.first) a = m;
-        if (scene_members_[m]->id_ == r.second) b = m;
-      }
-      if (a >= 0 && a < b) scene_owned_->restore_pair_state(a, b, r.state);
-    }
-  } catch (const std::exception& e) {
-    fail(prefix() + e.what());
-  }
-  carried_pair_state_.clear();
-  drop_restored_pairs(scene_members_);
 }
 
 // A distributed body after a restart: its pairs go on where the file holds all of them.
