@@ -198,3 +198,86 @@ def frames(workdir):
     out = os.path.join(workdir, "out")
     names = [os.path.join(out, f) for f in os.listdir(out) if f.endswith(".vtu")]
     return sorted(names, key=frame_step)
+
+
+# ---- the same case in LAMMPS PERI (pair_style peri/pmb), the peer of the speed comparison ----
+# A bond-based prototype microelastic brittle solid on a simple cubic lattice of spacing a, three
+# layers thick with free faces, horizon 3a (the usual choice, Silling & Askari 2005). PMB's
+# Poisson's ratio is 1/4, so its bulk modulus is E / 1.5; the micromodulus c = 18 k / (pi
+# delta^4) and the critical stretch s00 = sqrt(5 G_f / (9 k delta)) (Silling & Askari 2005);
+# alpha 0.25 as in the LAMMPS examples. The whole plate (a row of sites held in y is no symmetry
+# plane for a nonlocal model): 100 x 200 mm, notches at y = 75 and 125 mm, struck between them.
+# A notch is its row of sites removed, and the bonds across it carry nothing (sites just above a
+# notch are type 2, just below type 3, and the 2-3 micromodulus is zero: one spacing could not
+# keep bonds of a 3a horizon from reaching across). Sites on the struck edge move at SPEED from
+# the start. A site is on the crack where compute damage/atom (the fraction of its bonds broken)
+# reaches PERI_CRACK_DAMAGE. Positions are returned in the half plate's frame (y - 100 mm).
+PERI_CRACK_DAMAGE = 0.35
+
+PERI_SCENE = """units si
+dimension 3
+boundary s s s
+atom_style peri
+atom_modify map array
+lattice sc {a}
+region plate block 0 {size} 0 {height} 0 {thick} units box
+create_box 3 plate
+create_atoms 1 region plate
+region n1 block -1 {notch_x} {n1_lo} {n1_hi} -1 1 units box
+region n2 block -1 {notch_x} {n2_lo} {n2_hi} -1 1 units box
+region notches union 2 n1 n2
+delete_atoms region notches
+region above1 block -1 {notch_x} {n1_hi} {n1_top} -1 1 units box
+region below1 block -1 {notch_x} {n1_bot} {n1_lo} -1 1 units box
+region above2 block -1 {notch_x} {n2_hi} {n2_top} -1 1 units box
+region below2 block -1 {notch_x} {n2_bot} {n2_lo} -1 1 units box
+set region above1 type 2
+set region above2 type 2
+set region below1 type 3
+set region below2 type 3
+pair_style peri/pmb
+pair_coeff * * {c} {horizon} {s00} 0.25
+pair_coeff 2 3 0.0 {horizon} {s00} 0.25
+set group all density {density}
+set group all volume {volume}
+region impact block -1 {impact_x} {n1_hi} {n2_lo} -1 1 units box
+group impact region impact
+velocity impact set {speed} NULL NULL units box
+fix hold impact setforce 0.0 NULL NULL
+fix integrate all nve
+compute damage all damage/atom
+timestep {dt}
+thermo {every}
+dump crack all custom {steps} crack.*.txt id x y z c_damage
+dump_modify crack sort id
+run {steps}
+"""
+
+
+def peri_input(a, end_time=80e-6):
+    """The PERI input for lattice spacing a; returns (text, time step)."""
+    E, rho = STEEL["youngs"], STEEL["density"]
+    k = E / 1.5
+    delta = 3.0 * a + 1e-9
+    c = 18.0 * k / (math.pi * delta ** 4)
+    s00 = math.sqrt(5.0 * STEEL["fracture_energy"] / (9.0 * k * delta))
+    dt = 0.5 * a * math.sqrt(rho / (2.0 * k))  # half the stable step of the lattice sum
+    steps = int(round(end_time / dt))
+    y1, y2 = SIZE - NOTCH_Y, SIZE + NOTCH_Y
+    text = PERI_SCENE.format(
+        a=a, size=SIZE, height=2 * SIZE, thick=3 * a - 1e-9, notch_x=NOTCH_LENGTH,
+        n1_lo=y1 - 0.4 * a, n1_hi=y1 + 0.4 * a, n1_top=y1 + delta, n1_bot=y1 - delta,
+        n2_lo=y2 - 0.4 * a, n2_hi=y2 + 0.4 * a, n2_top=y2 + delta, n2_bot=y2 - delta,
+        c=c, horizon=delta, s00=s00, density=rho, volume=a ** 3, impact_x=0.5 * a,
+        speed=SPEED, dt=dt, every=max(1, steps // 10), steps=steps)
+    return text, dt
+
+
+def peri_failed_points(dump_path):
+    """In-plane positions (half plate frame) of the sites at crack damage, upper half only."""
+    with open(dump_path) as f:
+        lines = f.read().splitlines()
+    start = next(i for i, l in enumerate(lines) if l.startswith("ITEM: ATOMS")) + 1
+    data = np.array([[float(v) for v in l.split()] for l in lines[start:]])
+    pts = data[data[:, 4] >= PERI_CRACK_DAMAGE][:, 1:3] - np.array([0.0, SIZE])
+    return pts[pts[:, 1] >= 0]
