@@ -1156,7 +1156,7 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
                                    f, elem_energy, first_inverted);
     if (damaged_points) *damaged_points = law.damaged;
     return energy;
-  }, may_soften_);
+  }, softening_mask());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1176,7 +1176,7 @@ double FeSpace::evaluate_copy(const Mesh& mesh, const double* x, int e, const do
   return with_law(mat_, dim_, mesh, shift, scratch, 0.0, [&](auto& law) {
     law.bind(0, mesh.conn[e]);
     if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>)
-      law.held = may_soften_ && !may_soften_[e]; // bound as element 0 of the copy
+      law.held = !may_soften_.empty() && !may_soften_[e]; // bound as element 0 of the copy
     double fl[12], detF;
     const double* g = &geo_[offset_[e]];
     if (corot)

@@ -132,10 +132,13 @@ public:
   const Material& material() const { return mat_; }
   // Crack tracking (fracture/crack_tracking.h): per element, whether its points may soften. An
   // element at 0 whose points are undamaged is evaluated elastically (rankine_held_stress), in
-  // the force loop and on copies alike. null (default): every element may soften. The caller
-  // owns the array and sets it again whenever it moves.
-  void set_softening_mask(const std::uint8_t* may_soften) { may_soften_ = may_soften; }
-  const std::uint8_t* softening_mask() const { return may_soften_; }
+  // the force loop and on copies alike. Empty (default): every element may soften. Kept by value
+  // (a copied space holds its own), one byte per element; set again when the marks change.
+  void set_softening_mask(const std::vector<std::uint8_t>& may_soften) { may_soften_ = may_soften; }
+  const std::uint8_t* softening_mask() const
+  {
+    return may_soften_.empty() ? nullptr : may_soften_.data();
+  }
 
   // Bytes of the precomputed element data (capacities of its arrays).
   std::size_t memory_bytes() const
@@ -159,7 +162,7 @@ private:
   void element_masses(const Mesh& mesh, int e, double me[4]) const;
 
   Material mat_;
-  const std::uint8_t* may_soften_ = nullptr;
+  std::vector<std::uint8_t> may_soften_;
   bool log_strain_ = false; // plastic law under `model corotational`: ln U (see fe_space.cpp)
   bool axisym_ = false;
   int dim_ = 3;
