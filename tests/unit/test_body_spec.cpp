@@ -809,6 +809,12 @@ TEST(BodySpec, CrackTrackingKeyword)
                 "keyword 'fracture nodal track' expects a length L > 0", 0),
             0u);
   EXPECT_NE(check_error(rankine + " track 0.01", 3).find("works on 2D bodies"), std::string::npos);
+  EXPECT_EQ(parse("fracture nodal track 0.01 exclusion 0.2").track_exclusion, 0.2);
+  EXPECT_EQ(error_of("fracture nodal track 0.01 exclusion -1")
+                .rfind("keyword 'fracture nodal exclusion' expects a radius R > 0", 0),
+            0u);
+  EXPECT_NE(check_error(rankine + " exclusion 0.2", 2).find("give 'track L' with it"),
+            std::string::npos);
   BodySpec s = parse(rankine + " track 0.01");
   EXPECT_STREQ(distributed_refusal(s), "'fracture nodal track'");
   EXPECT_NE(check_error(rankine + " track 0.01 parallel distributed", 2)

@@ -182,6 +182,23 @@ void BodyDriver::build(int dimension)
   start_crack_tracking();
 }
 
+// One line per crack the tracker starts: where (element centroid) and its number.
+void BodyDriver::log_crack_starts(std::int64_t step, const TrackEvents& ev) const
+{
+  const Mesh& m = body_.mesh();
+  int number = body_.track_state().cracks - static_cast<int>(ev.started.size());
+  for (int e : ev.started) {
+    double c[2] = {0, 0};
+    const int nv = m.conn[e][3] >= 0 ? 4 : 3;
+    for (int a = 0; a < nv; ++a)
+      for (int d = 0; d < 2; ++d)
+        c[d] += m.X[3 * m.conn[e][a] + d] / nv;
+    print(format("fix fem/body %s: step %" PRId64 ": crack %d starts at element %d (%g %g)\n",
+                 id_.c_str(), step, ++number, e, c[0], c[1]),
+          false, true);
+  }
+}
+
 // 'fracture nodal track L': L of at least two mean element sizes (a shorter one averages the
 // stress of one element's neighbours only and the band follows the mesh).
 void BodyDriver::start_crack_tracking()
@@ -193,7 +210,7 @@ void BodyDriver::start_crack_tracking()
                 "least two element sizes, 2 h = %g (h: the mean element size of mesh '%s', %g), "
                 "got %g",
                 id_.c_str(), 2 * h, spec_->mesh_file.c_str(), h, spec_->track_length));
-  body_.set_crack_tracking(spec_->track_length);
+  body_.set_crack_tracking(spec_->track_length, spec_->track_exclusion);
 }
 
 // Whether the body is distributed: asked ('parallel distributed'), or chosen by its size where
@@ -665,7 +682,7 @@ void BodyDriver::end_step(std::int64_t step, double dt)
   if (step_substeps_ > 1) body_.kick_contact_difference(0.5 * (dt - dt / step_substeps_));
   // Fracture first: it erodes the collapsed failed elements, whose stable step the periodic
   // check would otherwise follow for one step.
-  if (body_.crack_tracking()) body_.track_cracks();
+  if (body_.crack_tracking()) log_crack_starts(step, body_.track_cracks());
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
   // A distributed body's modelled work drifts only where elements can be damaged, yield or
   // leave (item 4).

@@ -198,6 +198,7 @@ private:
   std::string prefix() const { return "fix fem/body " + id_ + ": "; }
   void check_crack_band();
   void start_crack_tracking();
+  void log_crack_starts(std::int64_t step, const TrackEvents& ev) const;
   void check_squeezed(std::int64_t step, double dt);
   bool can_substep() const { return !spec_->rigid && spec_->substeps != kSubstepsOff; }
   void follow_stable_step(std::int64_t step, double dt, double dt_stable);

@@ -297,9 +297,17 @@ const std::map<std::string, FractureOption> kFractureOptions = {
               "length, at least two element sizes), got " +
               r.word(1));
      }},
+    {"exclusion",
+     [](const SpecReader& r, BodySpec& s) {
+       s.track_exclusion = spec_number("fracture nodal exclusion", r.word(1));
+       if (!(s.track_exclusion > 0) || !std::isfinite(s.track_exclusion))
+         fail("keyword 'fracture nodal exclusion' expects a radius R > 0 (no crack starts within "
+              "R of a tracked crack), got " +
+              r.word(1));
+     }},
 };
 
-// fracture nodal [every N] [erode_cracked yes|no] [min_size F] [track L]
+// fracture nodal [every N] [erode_cracked yes|no] [min_size F] [track L [exclusion R]]
 void parse_fracture(SpecReader& r, BodySpec& s)
 {
   if (!r.has(1) || r.word(1) != "nodal") fail("keyword 'fracture' expects 'nodal [every N]'");
@@ -679,6 +687,8 @@ void check_material(const BodySpec& s, int dimension)
   if (s.fracture_every > 0 && !material_model_info(s.material.model).fractures)
     fail("keyword 'fracture' needs a material that fails, e.g. 'material rankine strength FT "
          "fracture_energy GF'");
+  if (s.track_exclusion > 0 && s.track_length <= 0)
+    fail("keyword 'fracture nodal exclusion' belongs to crack tracking: give 'track L' with it");
   if (s.track_length > 0 && dimension == 3)
     fail("keyword 'fracture nodal track' works on 2D bodies (tri3 / quad4 meshes, 'dimension 2') "
          "only yet; leave it out in 3D");

@@ -752,9 +752,10 @@ std::size_t Body::memory_bytes() const
               element was cut, so other bodies keep writing versions 2 to 4
 ------------------------------------------------------------------------- */
 
-void Body::set_crack_tracking(double length)
+void Body::set_crack_tracking(double length, double exclusion)
 {
   track_length_ = length;
+  track_exclusion_ = exclusion;
   track_ = CrackTrackState();
   track_.marked.assign(mesh_.num_elems(), 0);
   track_geo_ = TrackGeometry();
@@ -783,6 +784,7 @@ TrackEvents Body::track_cracks()
   in.overstressed = &overstressed_elems_;
   in.stress = [this](int e, double s[6]) { element_stress(e, s); };
   in.length = track_length_;
+  in.exclusion = track_exclusion_;
   const TrackEvents ev = fracdem::track_cracks(mesh_, track_geo_, in, track_,
                                                [this](int e) { return element_parent(e); });
   if (ev.nucleated > 0 || ev.advanced > 0) space_.set_softening_mask(track_.marked);

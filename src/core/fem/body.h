@@ -270,9 +270,9 @@ public:
   std::size_t memory_bytes() const;
 
   // ---- crack tracking (fracture/crack_tracking.h): only the tracked bands may soften ----
-  // Turns tracking on with length L (averaging and exclusion radius); every element starts
-  // unmarked, so nothing softens until a crack starts.
-  void set_crack_tracking(double length);
+  // Turns tracking on with length L (averaging radius) and the nucleation exclusion radius
+  // (<= 0: L); every element starts unmarked, so nothing softens until a crack starts.
+  void set_crack_tracking(double length, double exclusion = 0);
   bool crack_tracking() const { return track_length_ > 0; }
   // One tracker round after a force evaluation that covered the whole body: tips of damaged
   // elements advance, elements held at the strength start cracks.
@@ -402,6 +402,7 @@ private:
   std::vector<int> failed_elems_;  // and those with a point that carries no more tension
   std::vector<int> overstressed_elems_; // held elastic by the tracker, at the strength
   double track_length_ = 0;             // 0: no tracking
+  double track_exclusion_ = 0;          // <= 0: track_length_
   CrackTrackState track_;
   TrackGeometry track_geo_; // rebuilt when the element count changes
   int elem_begin_ = 0, elem_end_ = 0;

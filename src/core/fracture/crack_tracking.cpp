@@ -79,25 +79,39 @@ int exit_edge(const Mesh& mesh, int e, const double p[2], const double t[2], dou
   return best;
 }
 
-// Moves the tip one element on; false when the tip stops.
-bool advance_tip(const Mesh& mesh, const TrackGeometry& geo, const TrackInput& in,
-                 CrackTrackState& state, TrackTip& tip)
+bool listed(const std::vector<int>* sorted, int e)
 {
+  return sorted && std::binary_search(sorted->begin(), sorted->end(), e);
+}
+
+enum class TipMove { Wait, Advanced, Stopped };
+
+// Moves the tip one element on when its element is damaged or the element the crack line enters
+// next is held at the strength; stops it where the line leaves the body or meets a band.
+TipMove advance_tip(const Mesh& mesh, const TrackGeometry& geo, const TrackInput& in,
+                    CrackTrackState& state, TrackTip& tip)
+{
+  const bool damaged = listed(in.damaged, tip.elem);
+  bool ahead = false; // an unmarked neighbour at the strength: worth finding the line's next
+  for (int n : geo.neighbour[tip.elem])
+    ahead = ahead || (n >= 0 && !state.marked[n] && listed(in.overstressed, n));
+  if (!damaged && !ahead) return TipMove::Wait;
   double t[2];
-  if (!crack_direction(mesh, geo, in, tip.p, tip.dir, t)) return false;
+  if (!crack_direction(mesh, geo, in, tip.p, tip.dir, t)) return TipMove::Stopped;
   double q[2];
   int k = exit_edge(mesh, tip.elem, tip.p, t, q);
   if (k < 0) k = exit_edge(mesh, tip.elem, &geo.centroid[2 * tip.elem], t, q);
-  if (k < 0) return false;
+  if (k < 0) return TipMove::Stopped;
   const int next = geo.neighbour[tip.elem][k];
-  if (next < 0 || !mesh.active[next] || state.marked[next]) return false;
+  if (next < 0 || !mesh.active[next] || state.marked[next]) return TipMove::Stopped;
+  if (!damaged && !listed(in.overstressed, next)) return TipMove::Wait;
   state.marked[next] = 1;
   tip.elem = next;
   tip.p[0] = q[0];
   tip.p[1] = q[1];
   tip.dir[0] = t[0];
   tip.dir[1] = t[1];
-  return true;
+  return TipMove::Advanced;
 }
 
 double major_stress(const double s[6])
@@ -131,7 +145,7 @@ void nucleate(const Mesh& mesh, const TrackGeometry& geo, const TrackInput& in,
   }
   std::sort(order.begin(), order.end());
   for (const auto& [neg_s1, e] : order) {
-    if (excluded(geo, state, e, in.length)) continue;
+    if (excluded(geo, state, e, in.exclusion > 0 ? in.exclusion : in.length)) continue;
     const double* c = &geo.centroid[2 * e];
     const double none[2] = {0, 0};
     double t[2];
@@ -153,6 +167,7 @@ void nucleate(const Mesh& mesh, const TrackGeometry& geo, const TrackInput& in,
     }
     ++state.cracks;
     ++ev.nucleated;
+    ev.started.push_back(e);
   }
 }
 
@@ -235,16 +250,10 @@ TrackEvents track_cracks(const Mesh& mesh, const TrackGeometry& geo, const Track
   TrackEvents ev;
   std::vector<TrackTip> live;
   for (TrackTip tip : state.tips) {
-    const bool damaged =
-        in.damaged && std::binary_search(in.damaged->begin(), in.damaged->end(), tip.elem);
-    if (!damaged) {
-      live.push_back(tip);
-    } else if (advance_tip(mesh, geo, in, state, tip)) {
-      live.push_back(tip);
-      ++ev.advanced;
-    } else {
-      ++ev.stopped;
-    }
+    const TipMove move = advance_tip(mesh, geo, in, state, tip);
+    if (move != TipMove::Stopped) live.push_back(tip);
+    if (move == TipMove::Advanced) ++ev.advanced;
+    if (move == TipMove::Stopped) ++ev.stopped;
   }
   state.tips = std::move(live);
   if (in.overstressed) nucleate(mesh, geo, in, state, ev);

@@ -15,17 +15,18 @@ namespace fracdem
 // configuration of a 2D mesh (tri3, quad4):
 //  * Only marked elements may soften; the others stay elastic (FeSpace::set_softening_mask).
 //  * Nucleation: an unmarked element whose stress reached the strength starts a crack when no
-//    marked element and no crack tip lies within the exclusion radius of its centroid (the
-//    tracking length L). Candidates are taken by decreasing largest principal stress, so the
+//    marked element and no crack tip lies within the exclusion radius of its centroid (by
+//    default the tracking length L). Candidates are taken by decreasing largest principal stress, so the
 //    most stressed starts first and excludes its neighbourhood. The element is marked and gets
 //    two tips at its centroid, pointing both ways along the crack direction.
 //  * Crack direction: perpendicular (in the plane) to the major principal direction of the
 //    stress averaged, weighted by area, over the active elements whose centroids lie within L
 //    of the point (not one point's stress: the band does not follow one element's noise).
-//  * Propagation: a tip advances when its element is damaged. From the tip point the straight
-//    line along the crack direction (oriented as the tip's previous direction) leaves the tip
-//    element through one edge; the element across that edge is marked and becomes the tip
-//    element, the exit point the tip point. A tip stops at the boundary, at an eroded element
+//  * Propagation: from the tip point the straight line along the crack direction (oriented as
+//    the tip's previous direction) leaves the tip element through one edge; the element across
+//    that edge is marked and becomes the tip element, the exit point the tip point, when the tip
+//    element is damaged or that next element is held at the strength (a tip ahead of which the
+//    material fails must not wait, or it would hold that region elastic above the strength). A tip stops at the boundary, at an eroded element
 //    and where it meets a marked element (cracks join).
 // Neighbours are found through the nodes' roots (a split copy's parent chain), so a split
 // behind the tip does not cut the band's adjacency.
@@ -59,16 +60,18 @@ struct TrackInput {
   const std::vector<int>* damaged = nullptr;      // elements with damage > 0, ascending
   const std::vector<int>* overstressed = nullptr; // unmarked elements at the strength
   ElementStressFn stress;
-  double length = 0; // L: averaging radius and nucleation exclusion radius
+  double length = 0;    // L: averaging radius
+  double exclusion = 0; // nucleation exclusion radius (<= 0: L)
 };
 
 struct TrackEvents {
   int nucleated = 0, advanced = 0, stopped = 0;
+  std::vector<int> started; // the elements where cracks started, in order
 };
 
 // Sizes state.marked to the mesh (new elements of cuts take their parent's mark: parent_of(e),
-// or unmarked where it returns -1), then one round: each damaged tip advances one element, then
-// the candidates nucleate.
+// or unmarked where it returns -1), then one round: each tip advances at most one element,
+// then the candidates nucleate. The lists in `in` are ascending.
 TrackEvents track_cracks(const Mesh& mesh, const TrackGeometry& geo, const TrackInput& in,
                          CrackTrackState& state, const std::function<int(int)>& parent_of = {});
 
