@@ -86,16 +86,24 @@ bool listed(const std::vector<int>* sorted, int e)
 
 enum class TipMove { Wait, Advanced, Stopped };
 
-// Moves the tip one element on when its element is damaged or the element the crack line enters
-// next is held at the strength; stops it where the line leaves the body or meets a band.
+// Whether an unmarked element within L of the tip is held at the strength: the material around
+// the tip fails, so the tip grows (a start there is excluded).
+bool failing_near(const TrackGeometry& geo, const TrackInput& in, const CrackTrackState& state,
+                  const TrackTip& tip)
+{
+  if (!in.overstressed) return false;
+  for (int e : *in.overstressed)
+    if (!state.marked[e] && dist2(&geo.centroid[2 * e], tip.p) <= in.length * in.length)
+      return true;
+  return false;
+}
+
+// Moves the tip one element on when its element is damaged or an element within L of it is held
+// at the strength; stops it where the line leaves the body or meets a band.
 TipMove advance_tip(const Mesh& mesh, const TrackGeometry& geo, const TrackInput& in,
                     CrackTrackState& state, TrackTip& tip)
 {
-  const bool damaged = listed(in.damaged, tip.elem);
-  bool ahead = false; // an unmarked neighbour at the strength: worth finding the line's next
-  for (int n : geo.neighbour[tip.elem])
-    ahead = ahead || (n >= 0 && !state.marked[n] && listed(in.overstressed, n));
-  if (!damaged && !ahead) return TipMove::Wait;
+  if (!listed(in.damaged, tip.elem) && !failing_near(geo, in, state, tip)) return TipMove::Wait;
   double t[2];
   if (!crack_direction(mesh, geo, in, tip.p, tip.dir, t)) return TipMove::Stopped;
   double q[2];
@@ -104,7 +112,6 @@ TipMove advance_tip(const Mesh& mesh, const TrackGeometry& geo, const TrackInput
   if (k < 0) return TipMove::Stopped;
   const int next = geo.neighbour[tip.elem][k];
   if (next < 0 || !mesh.active[next] || state.marked[next]) return TipMove::Stopped;
-  if (!damaged && !listed(in.overstressed, next)) return TipMove::Wait;
   state.marked[next] = 1;
   tip.elem = next;
   tip.p[0] = q[0];

@@ -25,8 +25,9 @@ namespace fracdem
 //  * Propagation: from the tip point the straight line along the crack direction (oriented as
 //    the tip's previous direction) leaves the tip element through one edge; the element across
 //    that edge is marked and becomes the tip element, the exit point the tip point, when the tip
-//    element is damaged or that next element is held at the strength (a tip ahead of which the
-//    material fails must not wait, or it would hold that region elastic above the strength). A tip stops at the boundary, at an eroded element
+//    element is damaged or an unmarked element within L of the tip point is held at the strength
+//    (material failing near a tip makes the tip grow, where the exclusion forbids a new crack;
+//    a tip that waited would hold that region elastic above the strength). A tip stops at the boundary, at an eroded element
 //    and where it meets a marked element (cracks join).
 // Neighbours are found through the nodes' roots (a split copy's parent chain), so a split
 // behind the tip does not cut the band's adjacency.
