@@ -800,13 +800,13 @@ TEST(BodySpec, CrackTrackingKeyword)
 {
   EXPECT_EQ(parse("fracture nodal").track_length, 0.0);
   EXPECT_EQ(parse("fracture nodal track 0.01 every 2").track_length, 0.01);
-  const std::string rankine = std::string(kBody) +
-                              " material rankine strength 3e6 fracture_energy 100 fracture nodal";
+  const std::string rankine =
+      std::string(kBody) + " material rankine strength 3e6 fracture_energy 100 fracture nodal";
   EXPECT_EQ(check_error(rankine + " track 0.01", 2), "");
   EXPECT_EQ(error_of("fracture nodal track abc"),
             "keyword 'fracture nodal track' expects a finite number, got 'abc'");
-  EXPECT_EQ(error_of("fracture nodal track 0").rfind(
-                "keyword 'fracture nodal track' expects a length L > 0", 0),
+  EXPECT_EQ(error_of("fracture nodal track 0")
+                .rfind("keyword 'fracture nodal track' expects a length L > 0", 0),
             0u);
   EXPECT_NE(check_error(rankine + " track 0.01", 3).find("works on 2D bodies"), std::string::npos);
   EXPECT_EQ(parse("fracture nodal track 0.01 exclusion 0.2").track_exclusion, 0.2);

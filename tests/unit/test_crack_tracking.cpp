@@ -220,11 +220,31 @@ TEST(CrackTracking, NucleationExclusionRadius)
   track_cracks(m, g, in, st);
   ASSERT_FALSE(st.tips.empty());
   const TrackTip tip = st.tips[0];
-  over = {element_at(g, tip.p[0] + 0.5 * L * tip.dir[0], tip.p[1] + 0.5 * L * tip.dir[1] + 0.3 * L)};
+  over = {
+      element_at(g, tip.p[0] + 0.5 * L * tip.dir[0], tip.p[1] + 0.5 * L * tip.dir[1] + 0.3 * L)};
   damaged.clear();
   const int before = st.cracks;
   track_cracks(m, g, in, st);
   EXPECT_EQ(st.cracks, before);
+}
+
+// An exclusion radius beyond L excludes a candidate that L alone would let start.
+TEST(CrackTracking, ExclusionRadiusBeyondL)
+{
+  const Mesh m = square_mesh(20, 0.0, 1);
+  const TrackGeometry g = track_geometry(m, {});
+  const double h = mean_element_size(m), L = 3 * h;
+  std::vector<int> damaged, over = {element_at(g, 0.5, 0.5), element_at(g, 0.5, 0.5 + 2 * L)};
+  std::sort(over.begin(), over.end());
+  TrackInput in;
+  in.stress = uniaxial(kPi / 2);
+  in.length = L;
+  in.damaged = &damaged;
+  in.overstressed = &over;
+  CrackTrackState by_l, by_r;
+  EXPECT_EQ(track_cracks(m, g, in, by_l).nucleated, 2);
+  in.exclusion = 3 * L;
+  EXPECT_EQ(track_cracks(m, g, in, by_r).nucleated, 1);
 }
 
 TEST(CrackTracking, StateRoundTrip)

@@ -1104,11 +1104,11 @@ StressMode stress_mode(const Material& mat, int dim)
                                                 : StressMode::PlaneStrain;
 }
 
-// Runs fn(law) with the body's constitutive law (the elastic one needs no state). dt: see
-// PlasticLaw.
+// Runs fn(law) with the body's constitutive law (the elastic one needs no state). may_soften:
+// the softening mask (FeSpace::set_softening_mask; null: all may). dt: see PlasticLaw.
 template <class Fn>
 auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_offset,
-              double* state, double dt, Fn&& fn, const std::uint8_t* may_soften = nullptr)
+              double* state, double dt, const std::uint8_t* may_soften, Fn&& fn)
 {
   if (mat.model == MaterialModel::Rankine) {
     RankineLaw law{mat.rankine(), stress_mode(mat, dim), mesh.X.data(), state_offset, state, {}, 0,
@@ -1143,20 +1143,21 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
     throw std::invalid_argument("FeSpace: this material needs its per-point state");
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
-  return with_law(mat_, dim_, mesh, state_offset_.data(), state, dt, [&](auto& law) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>) {
-      law.damaged_elems = damaged_elems;
-      law.failed_elems = failed_elems;
-      law.overstressed = overstressed_elems;
-    }
-    const double energy =
-        corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
-                                  f, elem_energy, first_inverted)
-              : forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
-                                   f, elem_energy, first_inverted);
-    if (damaged_points) *damaged_points = law.damaged;
-    return energy;
-  }, softening_mask());
+  return with_law(
+      mat_, dim_, mesh, state_offset_.data(), state, dt, softening_mask(), [&](auto& law) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>) {
+          law.damaged_elems = damaged_elems;
+          law.failed_elems = failed_elems;
+          law.overstressed = overstressed_elems;
+        }
+        const double energy =
+            corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law,
+                                      bbar, f, elem_energy, first_inverted)
+                  : forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law,
+                                       bbar, f, elem_energy, first_inverted);
+        if (damaged_points) *damaged_points = law.damaged;
+        return energy;
+      });
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1173,7 +1174,7 @@ double FeSpace::evaluate_copy(const Mesh& mesh, const double* x, int e, const do
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   const ElemType t = mesh.etype[e];
-  return with_law(mat_, dim_, mesh, shift, scratch, 0.0, [&](auto& law) {
+  return with_law(mat_, dim_, mesh, shift, scratch, 0.0, nullptr, [&](auto& law) {
     law.bind(0, mesh.conn[e]);
     if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>)
       law.held = !may_soften_.empty() && !may_soften_[e]; // bound as element 0 of the copy

@@ -16,9 +16,9 @@ namespace fracdem
 //  * Only marked elements may soften; the others stay elastic (FeSpace::set_softening_mask).
 //  * Nucleation: an unmarked element whose stress reached the strength starts a crack when no
 //    marked element and no crack tip lies within the exclusion radius of its centroid (by
-//    default the tracking length L). Candidates are taken by decreasing largest principal stress, so the
-//    most stressed starts first and excludes its neighbourhood. The element is marked and gets
-//    two tips at its centroid, pointing both ways along the crack direction.
+//    default the tracking length L). Candidates are taken by decreasing largest principal stress,
+//    so the most stressed starts first and excludes its neighbourhood. The element is marked and
+//    gets two tips at its centroid, pointing both ways along the crack direction.
 //  * Crack direction: perpendicular (in the plane) to the major principal direction of the
 //    stress averaged, weighted by area, over the active elements whose centroids lie within L
 //    of the point (not one point's stress: the band does not follow one element's noise).
@@ -27,8 +27,8 @@ namespace fracdem
 //    that edge is marked and becomes the tip element, the exit point the tip point, when the tip
 //    element is damaged or an unmarked element within L of the tip point is held at the strength
 //    (material failing near a tip makes the tip grow, where the exclusion forbids a new crack;
-//    a tip that waited would hold that region elastic above the strength). A tip stops at the boundary, at an eroded element
-//    and where it meets a marked element (cracks join).
+//    a tip that waited would hold that region elastic above the strength). A tip stops at the
+//    boundary, at an eroded element and where it meets a marked element (cracks join).
 // Neighbours are found through the nodes' roots (a split copy's parent chain), so a split
 // behind the tip does not cut the band's adjacency.
 
