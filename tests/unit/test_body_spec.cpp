@@ -794,3 +794,30 @@ TEST(BodySpec, ParallelChosenBySize)
   EXPECT_EQ(parallel_choice(parse(body + "parallel distributed"), 10, distributed), "");
   EXPECT_TRUE(distributed);
 }
+
+// fracture nodal track L: parsed, refused where it cannot work, off by default.
+TEST(BodySpec, CrackTrackingKeyword)
+{
+  EXPECT_EQ(parse("fracture nodal").track_length, 0.0);
+  EXPECT_EQ(parse("fracture nodal track 0.01 every 2").track_length, 0.01);
+  const std::string rankine =
+      std::string(kBody) + " material rankine strength 3e6 fracture_energy 100 fracture nodal";
+  EXPECT_EQ(check_error(rankine + " track 0.01", 2), "");
+  EXPECT_EQ(error_of("fracture nodal track abc"),
+            "keyword 'fracture nodal track' expects a finite number, got 'abc'");
+  EXPECT_EQ(error_of("fracture nodal track 0")
+                .rfind("keyword 'fracture nodal track' expects a length L > 0", 0),
+            0u);
+  EXPECT_NE(check_error(rankine + " track 0.01", 3).find("works on 2D bodies"), std::string::npos);
+  EXPECT_EQ(parse("fracture nodal track 0.01 exclusion 0.2").track_exclusion, 0.2);
+  EXPECT_EQ(error_of("fracture nodal track 0.01 exclusion -1")
+                .rfind("keyword 'fracture nodal exclusion' expects a radius R > 0", 0),
+            0u);
+  EXPECT_NE(check_error(rankine + " exclusion 0.2", 2).find("give 'track L' with it"),
+            std::string::npos);
+  BodySpec s = parse(rankine + " track 0.01");
+  EXPECT_STREQ(distributed_refusal(s), "'fracture nodal track'");
+  EXPECT_NE(check_error(rankine + " track 0.01 parallel distributed", 2)
+                .find("keyword 'parallel distributed' does not work with 'fracture nodal track'"),
+            std::string::npos);
+}

@@ -46,15 +46,17 @@ std::string format(const char* fmt, ...)
 // pieces and with other bodies ("held contact forces" below), 4 doubles per node (node, force),
 // likewise. kPairContactSection: the contacts between bodies held by this body (the first body
 // of a contact scene of several, or a distributed body with replicated partners), each behind
-// the fix IDs of its two bodies (pair_restart.cpp).
+// the fix IDs of its two bodies (pair_restart.cpp). kCrackTrackSection: the crack tracker's
+// marks and tips (fracture/crack_tracking.h), written only with 'fracture nodal track'.
 constexpr double kRecordHead = -1.0;
 constexpr double kSelfContactSection = 1.0;
 constexpr double kSelfEdgeSection = 2.0;
 constexpr double kHeldContactSection = 3.0;
 constexpr double kPairContactSection = 4.0;
+constexpr double kCrackTrackSection = 5.0;
 // The head's sections in the order BodyDriver keeps them (record_head, read_head).
 constexpr double kHeadSectionTags[] = {kSelfContactSection, kSelfEdgeSection, kHeldContactSection,
-                                       kPairContactSection};
+                                       kPairContactSection, kCrackTrackSection};
 
 // The placement keywords as the input writes them.
 std::string placement_text(bool rigid, const std::vector<MeshTransform>& transforms)
@@ -168,6 +170,38 @@ void BodyDriver::build(int dimension)
       fracdem::split_element_work(body_, host_.rank, host_.nprocs, spec_->erosion.on());
   rebuild_surfaces();
   check_crack_band();
+  start_crack_tracking();
+}
+
+// One line per crack the tracker starts: where (element centroid) and its number.
+void BodyDriver::log_crack_starts(std::int64_t step, const TrackEvents& ev) const
+{
+  const Mesh& m = body_.mesh();
+  int number = body_.track_state().cracks - static_cast<int>(ev.started.size());
+  for (int e : ev.started) {
+    double c[2] = {0, 0};
+    const int nv = m.conn[e][3] >= 0 ? 4 : 3;
+    for (int a = 0; a < nv; ++a)
+      for (int d = 0; d < 2; ++d)
+        c[d] += m.X[3 * m.conn[e][a] + d] / nv;
+    print(format("fix fem/body %s: step %" PRId64 ": crack %d starts at element %d (%g %g)\n",
+                 id_.c_str(), step, ++number, e, c[0], c[1]),
+          false, true);
+  }
+}
+
+// 'fracture nodal track L': L of at least two mean element sizes (a shorter one averages the
+// stress of one element's neighbours only and the band follows the mesh).
+void BodyDriver::start_crack_tracking()
+{
+  if (spec_->track_length <= 0) return;
+  const double h = mean_element_size(body_.mesh());
+  if (spec_->track_length < 2 * h)
+    fail(format("fix fem/body %s: keyword 'fracture nodal track' expects a tracking length of at "
+                "least two element sizes, 2 h = %g (h: the mean element size of mesh '%s', %g), "
+                "got %g",
+                id_.c_str(), 2 * h, spec_->mesh_file.c_str(), h, spec_->track_length));
+  body_.set_crack_tracking(spec_->track_length, spec_->track_exclusion);
 }
 
 // Whether the body is distributed: asked ('parallel distributed'), or chosen by its size where
@@ -617,6 +651,7 @@ void BodyDriver::end_step(std::int64_t step, double dt)
   if (step_substeps_ > 1) body_.kick_contact_difference(0.5 * (dt - dt / step_substeps_));
   // Fracture first: it erodes the collapsed failed elements, whose stable step the periodic
   // check would otherwise follow for one step.
+  if (body_.crack_tracking()) log_crack_starts(step, body_.track_cracks());
   if (spec_->fracture_every > 0 && step % spec_->fracture_every == 0) fracture(step, dt);
   // A distributed body's modelled work drifts only where elements can be damaged, yield or
   // leave (item 4).
@@ -1488,6 +1523,7 @@ std::vector<double> BodyDriver::record_head(const std::vector<double>& held) con
   if (spec_->contact_bodies > 0) self_edges_.pack_state(state[1]);
   state[2] = held;
   state[3] = pair_records();
+  if (body_.crack_tracking()) pack_track_state(body_.track_state(), state[4]);
   static_assert(std::size(kHeadSectionTags) == kHeadSections, "one tag per head section");
   for (int i = 0; i < kHeadSections; ++i)
     if (!state[i].empty()) {
@@ -1680,6 +1716,11 @@ void BodyDriver::read_restart(const double* record)
   } catch (const std::exception& e) {
     fail(prefix() + e.what() + " (mesh '" + spec_->mesh_file +
          "'); use the same mesh file and transforms as the run that wrote it");
+  }
+  if (state[4] && body_.crack_tracking()) {
+    CrackTrackState track;
+    unpack_track_state(state[4], track);
+    body_.set_track_state(std::move(track));
   }
   rebuild_surfaces();
   // The pieces' contacts continue where they were (without: a resting contact would restart

@@ -202,6 +202,8 @@ private:
   void warn(const std::string& text) const; // rank 0
   std::string prefix() const { return "fix fem/body " + id_ + ": "; }
   void check_crack_band();
+  void start_crack_tracking();
+  void log_crack_starts(std::int64_t step, const TrackEvents& ev) const;
   void check_squeezed(std::int64_t step, double dt);
   bool can_substep() const { return !spec_->rigid && spec_->substeps != kSubstepsOff; }
   void follow_stable_step(std::int64_t step, double dt, double dt_stable);
@@ -303,7 +305,7 @@ private:
                           std::vector<int>& eroded) const;
   // Sections of the head: [0] the pieces' node-facet contact state, [1] their edge contact state,
   // [2] the held contact forces.
-  static constexpr int kHeadSections = 4; // sections of the restart record's head
+  static constexpr int kHeadSections = 5; // sections of the restart record's head
   void read_head(const double* head, int n, const double* (&state)[kHeadSections],
                  size_t (&size)[kHeadSections]);
   std::vector<double> record_head(const std::vector<double>& held) const;

@@ -289,9 +289,25 @@ const std::map<std::string, FractureOption> kFractureOptions = {
               "piece of an element that a crack cuts keeps at least F of its area/volume), got " +
               r.word(1));
      }},
+    {"track",
+     [](const SpecReader& r, BodySpec& s) {
+       s.track_length = spec_number("fracture nodal track", r.word(1));
+       if (!(s.track_length > 0) || !std::isfinite(s.track_length))
+         fail("keyword 'fracture nodal track' expects a length L > 0 (the crack tracking "
+              "length, at least two element sizes), got " +
+              r.word(1));
+     }},
+    {"exclusion",
+     [](const SpecReader& r, BodySpec& s) {
+       s.track_exclusion = spec_number("fracture nodal exclusion", r.word(1));
+       if (!(s.track_exclusion > 0) || !std::isfinite(s.track_exclusion))
+         fail("keyword 'fracture nodal exclusion' expects a radius R > 0 (no crack starts within "
+              "R of a tracked crack), got " +
+              r.word(1));
+     }},
 };
 
-// fracture nodal [every N] [erode_cracked yes|no] [min_size F]
+// fracture nodal [every N] [erode_cracked yes|no] [min_size F] [track L [exclusion R]]
 void parse_fracture(SpecReader& r, BodySpec& s)
 {
   if (!r.has(1) || r.word(1) != "nodal") fail("keyword 'fracture' expects 'nodal [every N]'");
@@ -671,6 +687,11 @@ void check_material(const BodySpec& s, int dimension)
   if (s.fracture_every > 0 && !material_model_info(s.material.model).fractures)
     fail("keyword 'fracture' needs a material that fails, e.g. 'material rankine strength FT "
          "fracture_energy GF'");
+  if (s.track_exclusion > 0 && s.track_length <= 0)
+    fail("keyword 'fracture nodal exclusion' belongs to crack tracking: give 'track L' with it");
+  if (s.track_length > 0 && dimension == 3)
+    fail("keyword 'fracture nodal track' works on 2D bodies (tri3 / quad4 meshes, 'dimension 2') "
+         "only yet; leave it out in 3D");
   // A 3D mesh has no plane formulation: 'plane axisymmetric' there would silently run 3D.
   if (s.have_plane && dimension == 3)
     fail("keyword 'plane' applies to 2D runs ('dimension 2'); this run is 3D (leave out "
@@ -696,7 +717,7 @@ void check_erosion(const BodySpec& s)
 
 const char* distributed_refusal(const BodySpec& s)
 {
-  return s.rigid ? "'rigid yes'" : nullptr;
+  return s.rigid ? "'rigid yes'" : s.track_length > 0 ? "'fracture nodal track'" : nullptr;
 }
 
 // A distributed body that breaks or erodes is gathered on rank 0 at its changes (a breaking one

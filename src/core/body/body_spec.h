@@ -71,6 +71,8 @@ struct BodySpec {
   int fracture_every = 0;     // fracture nodal [every N]; 0: no fracture
   bool erode_cracked = false; // fracture nodal erode_cracked yes
   double min_size = 0;        // fracture nodal min_size F: cracks may cut elements; 0: they do not
+  double track_length = 0;    // fracture nodal track L: crack tracking over length L; 0: off
+  double track_exclusion = 0; // fracture nodal exclusion R: nucleation exclusion radius; 0: L
   BulkViscosity viscosity;
   int viscosity_mode = -1;        // -1: default (on for plastic materials / EOS), 0: off, 1: on
   ErosionCriteria erosion;        // erosion ...; erosion_mass keep|remove (remove_mass)

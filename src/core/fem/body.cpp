@@ -297,7 +297,8 @@ double Body::add_internal_forces(int* first_inverted)
   if (rigid_) return 0.0;
   const double energy = space_.add_internal_forces(
       mesh_, x_.data(), elem_begin_, elem_end_, f_.data(), nullptr, first_inverted, state_.data(),
-      &damaged_points_, last_dt_, &damaged_elems_, &failed_elems_);
+      &damaged_points_, last_dt_, &damaged_elems_, &failed_elems_,
+      track_length_ > 0 ? &overstressed_elems_ : nullptr);
   if (viscosity_.on && replay_viscous_) {
     std::copy(viscous_force_prev_.begin(), viscous_force_prev_.end(), viscous_force_.begin());
     space_.add_given_viscous_forces(mesh_, x_.data(), elem_begin_, elem_end_, viscous_force_.data(),
@@ -750,6 +751,53 @@ std::size_t Body::memory_bytes() const
               layout (viscous block, ne or 0, and accounts always); written only once an
               element was cut, so other bodies keep writing versions 2 to 4
 ------------------------------------------------------------------------- */
+
+void Body::set_crack_tracking(double length, double exclusion)
+{
+  track_length_ = length;
+  track_exclusion_ = exclusion;
+  track_ = CrackTrackState();
+  track_.marked.assign(mesh_.num_elems(), 0);
+  track_geo_ = TrackGeometry();
+  space_.set_softening_mask(track_.marked);
+}
+
+void Body::grow_track_marks()
+{
+  if (track_length_ <= 0) return;
+  const int old = static_cast<int>(track_.marked.size());
+  track_.marked.resize(mesh_.num_elems(), 0);
+  for (int e = old; e < mesh_.num_elems(); ++e) {
+    const int parent = element_parent(e);
+    track_.marked[e] = parent >= 0 && parent < old ? track_.marked[parent] : 0;
+  }
+  space_.set_softening_mask(track_.marked);
+}
+
+TrackEvents Body::track_cracks()
+{
+  if (track_length_ <= 0) return {};
+  if (static_cast<int>(track_geo_.area.size()) != mesh_.num_elems())
+    track_geo_ = track_geometry(mesh_, parent_);
+  TrackInput in;
+  in.damaged = &damaged_elems_;
+  in.overstressed = &overstressed_elems_;
+  in.stress = [this](int e, double s[6]) { element_stress(e, s); };
+  in.length = track_length_;
+  in.exclusion = track_exclusion_;
+  const TrackEvents ev = fracdem::track_cracks(mesh_, track_geo_, in, track_,
+                                               [this](int e) { return element_parent(e); });
+  if (ev.nucleated > 0 || ev.advanced > 0) space_.set_softening_mask(track_.marked);
+  return ev;
+}
+
+void Body::set_track_state(CrackTrackState state)
+{
+  track_ = std::move(state);
+  track_.marked.resize(mesh_.num_elems(), 0);
+  track_geo_ = TrackGeometry();
+  space_.set_softening_mask(track_length_ > 0 ? track_.marked : std::vector<std::uint8_t>());
+}
 
 void Body::pack_state(std::vector<double>& buf) const
 {

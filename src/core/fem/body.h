@@ -13,6 +13,7 @@
 #include "materials/material.h"
 #include "fem/mesh.h"
 #include "fem/node_split.h"
+#include "fracture/crack_tracking.h"
 
 namespace fracdem
 {
@@ -268,6 +269,19 @@ public:
   // sets) and its precomputed element data. Grows when fracture splits nodes.
   std::size_t memory_bytes() const;
 
+  // ---- crack tracking (fracture/crack_tracking.h): only the tracked bands may soften ----
+  // Turns tracking on with length L (averaging radius) and the nucleation exclusion radius
+  // (<= 0: L); every element starts unmarked, so nothing softens until a crack starts.
+  void set_crack_tracking(double length, double exclusion = 0);
+  bool crack_tracking() const { return track_length_ > 0; }
+  // One tracker round after a force evaluation that covered the whole body: tips of damaged
+  // elements advance, elements held at the strength start cracks.
+  TrackEvents track_cracks();
+  const CrackTrackState& track_state() const { return track_; }
+  void set_track_state(CrackTrackState state); // restart
+  // Elements held elastic whose stress reached the strength at the last force evaluation.
+  const std::vector<int>& overstressed_elements() const { return overstressed_elems_; }
+
   // ---- restart: the whole state including topology (split nodes, connectivity, activity) ----
   void pack_state(std::vector<double>& buf) const;
   // Restores a state packed by pack_state (or a version-1 record: positions, velocities and
@@ -314,6 +328,7 @@ public:
 
 private:
   void resize_nodes(int nn);
+  void grow_track_marks(); // new elements of cuts take their parent's mark
   // bisect_edge's parts (fem/body_cut.cpp).
   void cut_conditions(int p, int u, int w, double t);
   void cut_masses(int p, const std::vector<int>& nodes, const std::vector<double>& loss,
@@ -385,6 +400,11 @@ private:
   int damaged_points_ = 0;
   std::vector<int> damaged_elems_; // elements with a damaged point at the last force evaluation
   std::vector<int> failed_elems_;  // and those with a point that carries no more tension
+  std::vector<int> overstressed_elems_; // held elastic by the tracker, at the strength
+  double track_length_ = 0;             // 0: no tracking
+  double track_exclusion_ = 0;          // <= 0: track_length_
+  CrackTrackState track_;
+  TrackGeometry track_geo_; // rebuilt when the element count changes
   int elem_begin_ = 0, elem_end_ = 0;
   double time_ = 0;
   double last_dt_ = 0; // step of the last half_kick_drift (material strain rates)

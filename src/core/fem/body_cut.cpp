@@ -79,6 +79,7 @@ int Body::bisect_edge(int u, int w, double t, std::vector<int>* new_elems,
     for (int e = ne; e < mesh_.num_elems(); ++e)
       new_elems->push_back(e);
   }
+  grow_track_marks();
   return p;
 }
 
@@ -337,6 +338,7 @@ void Body::restore_cut_elements()
   state_.assign(space_.state_size(), 0.0);
   set_bulk_viscosity(viscosity_);
   if (elem_begin_ <= 0 && elem_end_ >= mesh_elems_) elem_end_ = mesh_.num_elems();
+  grow_track_marks();
 }
 
 } // namespace fracdem

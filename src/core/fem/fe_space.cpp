@@ -230,9 +230,13 @@ struct RankineLaw {
   int elem = -1;
   std::vector<int>* damaged_elems = nullptr; // elements with a damaged point, if wanted
   std::vector<int>* failed_elems = nullptr;  // elements with a point that carries no tension
+  const std::uint8_t* may_soften = nullptr;  // softening mask (crack tracking), null: all may
+  std::vector<int>* overstressed = nullptr;  // held elements whose stress reached ft
+  bool held = false;                         // the bound element may not soften
   void bind(int e, const std::array<int, 4>& c)
   {
     elem = e;
+    held = may_soften && !may_soften[e];
     nnodes = c[3] >= 0 ? 4 : 3;
     for (int a = 0; a < nnodes; ++a)
       for (int i = 0; i < 3; ++i)
@@ -243,6 +247,13 @@ struct RankineLaw {
   double operator()(const double e[6], double, int q, double s[6])
   {
     double* st = elem_state + q * kRankineStateSize;
+    if (held && rankine_damage(st) == 0) {
+      bool over = false;
+      const double w2 = 2.0 * rankine_held_stress(params, mode, e, st, s, &over);
+      if (over && overstressed && (overstressed->empty() || overstressed->back() != elem))
+        overstressed->push_back(elem);
+      return w2;
+    }
     const double w2 = 2.0 * rankine_stress(params, mode, e, elem_X, nnodes, st, s);
     if (rankine_damage(st) > 0) {
       ++damaged;
@@ -1093,15 +1104,16 @@ StressMode stress_mode(const Material& mat, int dim)
                                                 : StressMode::PlaneStrain;
 }
 
-// Runs fn(law) with the body's constitutive law (the elastic one needs no state). dt: see
-// PlasticLaw.
+// Runs fn(law) with the body's constitutive law (the elastic one needs no state). may_soften:
+// the softening mask (FeSpace::set_softening_mask; null: all may). dt: see PlasticLaw.
 template <class Fn>
 auto with_law(const Material& mat, int dim, const Mesh& mesh, const int* state_offset,
-              double* state, double dt, Fn&& fn)
+              double* state, double dt, const std::uint8_t* may_soften, Fn&& fn)
 {
   if (mat.model == MaterialModel::Rankine) {
     RankineLaw law{mat.rankine(), stress_mode(mat, dim), mesh.X.data(), state_offset, state, {}, 0,
                    nullptr};
+    law.may_soften = may_soften;
     return fn(law);
   }
   if (mat.plastic_model()) {
@@ -1119,29 +1131,33 @@ double FeSpace::add_internal_forces(const Mesh& mesh, const double* x, int e_beg
                                     double* f, double* elem_energy, int* first_inverted,
                                     double* state, int* damaged_points, double dt,
                                     std::vector<int>* damaged_elems,
-                                    std::vector<int>* failed_elems) const
+                                    std::vector<int>* failed_elems,
+                                    std::vector<int>* overstressed_elems) const
 {
   if (damaged_elems) damaged_elems->clear();
   if (failed_elems) failed_elems->clear();
+  if (overstressed_elems) overstressed_elems->clear();
   e_begin = std::max(e_begin, 0);
   e_end = std::min(e_end, mesh.num_elems());
   if (state_offset_.back() > 0 && !state)
     throw std::invalid_argument("FeSpace: this material needs its per-point state");
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
-  return with_law(mat_, dim_, mesh, state_offset_.data(), state, dt, [&](auto& law) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>) {
-      law.damaged_elems = damaged_elems;
-      law.failed_elems = failed_elems;
-    }
-    const double energy =
-        corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
-                                  f, elem_energy, first_inverted)
-              : forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law, bbar,
-                                   f, elem_energy, first_inverted);
-    if (damaged_points) *damaged_points = law.damaged;
-    return energy;
-  });
+  return with_law(
+      mat_, dim_, mesh, state_offset_.data(), state, dt, softening_mask(), [&](auto& law) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>) {
+          law.damaged_elems = damaged_elems;
+          law.failed_elems = failed_elems;
+          law.overstressed = overstressed_elems;
+        }
+        const double energy =
+            corot ? forces_loop<true>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law,
+                                      bbar, f, elem_energy, first_inverted)
+                  : forces_loop<false>(mesh, geo_.data(), offset_.data(), x, e_begin, e_end, law,
+                                       bbar, f, elem_energy, first_inverted);
+        if (damaged_points) *damaged_points = law.damaged;
+        return energy;
+      });
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1158,8 +1174,10 @@ double FeSpace::evaluate_copy(const Mesh& mesh, const double* x, int e, const do
   const bool bbar = !(dim_ == 2 && mat_.plane == PlaneMode::PlaneStress);
   const bool corot = mat_.kinematics == Kinematics::Corotational;
   const ElemType t = mesh.etype[e];
-  return with_law(mat_, dim_, mesh, shift, scratch, 0.0, [&](auto& law) {
+  return with_law(mat_, dim_, mesh, shift, scratch, 0.0, nullptr, [&](auto& law) {
     law.bind(0, mesh.conn[e]);
+    if constexpr (std::is_same_v<std::decay_t<decltype(law)>, RankineLaw>)
+      law.held = !may_soften_.empty() && !may_soften_[e]; // bound as element 0 of the copy
     double fl[12], detF;
     const double* g = &geo_[offset_[e]];
     if (corot)

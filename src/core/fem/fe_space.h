@@ -63,6 +63,8 @@ public:
   // state: the material's per-point history (state_size() doubles, element e's points from
   // state_offset(e)), advanced by this call; may be null for materials without state.
   // damaged_points (optional): the number of points with damage > 0 after the call;
+  // overstressed_elems (optional): elements held elastic by the softening mask whose stress
+  // reached the strength, ascending.
   // damaged_elems (optional): the elements with such a point, ascending (read while each point's
   // state is in cache, so the fracture check need not sweep every element's state again).
   // dt: time since the previous evaluation, for rate-dependent materials (0: none known, the
@@ -71,7 +73,8 @@ public:
                              double* elem_energy, int* first_inverted, double* state = nullptr,
                              int* damaged_points = nullptr, double dt = 0.0,
                              std::vector<int>* damaged_elems = nullptr,
-                             std::vector<int>* failed_elems = nullptr) const;
+                             std::vector<int>* failed_elems = nullptr,
+                             std::vector<int>* overstressed_elems = nullptr) const;
 
   // Cauchy stress of element e (Voigt xx, yy, zz, xy, yz, zx; the zz slot is the hoop stress in
   // axisymmetric runs), averaged over Gauss points. Small-strain stress rotated by R
@@ -127,6 +130,15 @@ public:
   double point_weight(const Mesh& mesh, int e, int q) const;
   bool axisymmetric() const { return axisym_; }
   const Material& material() const { return mat_; }
+  // Crack tracking (fracture/crack_tracking.h): per element, whether its points may soften. An
+  // element at 0 whose points are undamaged is evaluated elastically (rankine_held_stress), in
+  // the force loop and on copies alike. Empty (default): every element may soften. Kept by value
+  // (a copied space holds its own), one byte per element; set again when the marks change.
+  void set_softening_mask(const std::vector<std::uint8_t>& may_soften) { may_soften_ = may_soften; }
+  const std::uint8_t* softening_mask() const
+  {
+    return may_soften_.empty() ? nullptr : may_soften_.data();
+  }
 
   // Bytes of the precomputed element data (capacities of its arrays).
   std::size_t memory_bytes() const
@@ -150,6 +162,7 @@ private:
   void element_masses(const Mesh& mesh, int e, double me[4]) const;
 
   Material mat_;
+  std::vector<std::uint8_t> may_soften_;
   bool log_strain_ = false; // plastic law under `model corotational`: ln U (see fe_space.cpp)
   bool axisym_ = false;
   int dim_ = 3;

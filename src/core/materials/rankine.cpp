@@ -265,6 +265,27 @@ double rankine_stress(const RankineParams& p, StressMode mode, const double eps_
   return 0.5 * voigt_dot(sigma, eps);
 }
 
+double rankine_held_stress(const RankineParams& p, StressMode mode, const double eps_in[6],
+                           double* state, double sigma[6], bool* overstressed)
+{
+  double eps[6], str[6];
+  effective_strain(mode, eps_in, eps);
+  trial_stress(p, mode, eps, str);
+  const double s1_bound = std::max({str[0] + std::fabs(str[3]) + std::fabs(str[5]),
+                                    str[1] + std::fabs(str[3]) + std::fabs(str[4]),
+                                    str[2] + std::fabs(str[5]) + std::fabs(str[4])});
+  *overstressed = false;
+  if (s1_bound >= p.ft) {
+    double s[3], n[3][3];
+    principal(str, s, n);
+    *overstressed = s[0] >= p.ft;
+  }
+  std::copy(str, str + 6, sigma);
+  std::copy(eps, eps + 6, state + kEpsPrev);
+  std::copy(sigma, sigma + 6, state + kSigPrev);
+  return 0.5 * voigt_dot(sigma, eps);
+}
+
 double rankine_damage(const double* state)
 {
   return state[kDamage];

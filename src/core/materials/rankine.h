@@ -132,6 +132,13 @@ constexpr int kRankineStateSize = 20;
 double rankine_stress(const RankineParams& p, StressMode mode, const double eps[6],
                       const double* elem_X, int nnodes, double* state, double sigma[6]);
 
+// The same point held elastic (crack tracking: the element is outside every tracked band, so it
+// may not soften): the trial stress, kappa and d untouched, the previous strain and stress
+// recorded as rankine_stress does. For an undamaged point only (d = 0). overstressed (out): its
+// largest principal stress reached ft (the tracker's nucleation candidates).
+double rankine_held_stress(const RankineParams& p, StressMode mode, const double eps[6],
+                           double* state, double sigma[6], bool* overstressed);
+
 double rankine_damage(const double* state);              // d in [0, 1]
 double rankine_dissipated(const double* state);          // dissipated energy per unit volume
 const double* rankine_crack_normal(const double* state); // unit vector, zeros before onset
