@@ -52,8 +52,8 @@ fb::DistributedResult partition_distributed(fb::Partitioner p, const fb::Distrib
 {
   if (p == fb::Partitioner::PtScotch)
     return fb::partition_ptscotch(g, nparts, fb::kDistributedTolerance, comm);
-  return fb::partition_zoltan(g, nparts, fb::kDistributedTolerance,
-                              p == fb::Partitioner::ZoltanPhg, comm);
+  return fb::partition_zoltan(g, nparts, fb::kDistributedTolerance, p == fb::Partitioner::ZoltanPhg,
+                              comm);
 }
 
 double thread_cpu_seconds()
@@ -66,8 +66,8 @@ double thread_cpu_seconds()
 } // namespace
 
 FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
-    : Fix(lmp, narg, arg), spec_(read_spec(narg, arg)), schedule_(spec_.every),
-      trigger_{spec_.threshold}, pricing_(spec_.cost_model, start_costs()),
+    : Fix(lmp, narg, arg), spec_(read_spec(narg, arg)),
+      schedule_(spec_.every), trigger_{spec_.threshold}, pricing_(spec_.cost_model, start_costs()),
       strategy_(spec_.partitioner, spec_.strategy)
 {
   const fb::PartitionerInfo& partitioner = fb::partitioner_info(spec_.partitioner);
@@ -486,12 +486,33 @@ void FixBalanceGraph::repartition_distributed(const Measured& m,
     error->one(FLERR, (std::string("fix balance/graph: ") + e.what()).c_str());
   }
   const fb::DistributedResult r =
-      partition_distributed(spec_.partitioner, g, comm->nprocs, world);
+      fb::partitioner_info(spec_.partitioner).geometric
+          ? partition_geometric(g)
+          : partition_distributed(spec_.partitioner, g, comm->nprocs, world);
   if (kept_owners(r.failed, r.failure)) return;
   fb::PartitionResult result;
   result.predicted_imbalance = r.predicted_imbalance;
   result.edge_cut = r.edge_cut;
   apply_destinations(r.part, result);
+}
+
+// partitioner zoltan-rcb|rib|hsfc: Zoltan cuts this rank's particle positions weighted by the
+// graph's vertex weights; the graph's edges measure the cut.
+fb::DistributedResult FixBalanceGraph::partition_geometric(const fb::DistributedGraph& g)
+{
+  const fb::PartitionerInfo& info = fb::partitioner_info(spec_.partitioner);
+  if (!geometric_)
+    geometric_ = std::make_unique<fb::ZoltanGeometric>(info.zoltan_method, info.name, world);
+  const int dim = domain->dimension, nlocal = atom->nlocal;
+  std::vector<double> coords(static_cast<std::size_t>(dim) * nlocal);
+  for (int i = 0; i < nlocal; ++i)
+    for (int d = 0; d < dim; ++d)
+      coords[static_cast<std::size_t>(i) * dim + d] = atom->x[i][d];
+  const std::vector<double> weight(g.local.vwgt.begin(), g.local.vwgt.end());
+  fb::DistributedResult r =
+      geometric_->partition(coords, dim, weight, comm->nprocs, fb::kDistributedTolerance);
+  if (!r.failed) r.edge_cut = fb::distributed_edge_cut(g, r.part, world);
+  return r;
 }
 
 // This rank's vertices (weights) and edges (local i, global number of j, weight).

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "balance/partition_strategy.h"
 #include "balance_exchange.h"
 #include "distributed_graph.h"
+#include "zoltan_geometric.h"
 #include "fix.h"
 
 namespace LAMMPS_NS
@@ -77,6 +79,9 @@ private:
   // Distributed graph: the global vertex number of each local and ghost particle (ghosts' from
   // their owners by forward communication).
   std::vector<double> vertex_number_;
+  // partitioner zoltan-rcb|rib|hsfc: Zoltan's object, kept between repartitions (created at the
+  // first).
+  std::unique_ptr<fracdem::balance::ZoltanGeometric> geometric_;
 
   void fail(const std::string& msg) const; // "fix balance/graph: MSG" on all ranks
   void log(const std::string& line) const; // screen and log file (rank 0 calls it)
@@ -97,6 +102,8 @@ private:
   void repartition_particles(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_cells(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_distributed(const Measured& m, const std::vector<std::int64_t>& weight);
+  fracdem::balance::DistributedResult
+  partition_geometric(const fracdem::balance::DistributedGraph& g);
   fracdem::balance::DistributedShare
   distributed_share(const Measured& m, const std::vector<std::int64_t>& weight, std::int64_t first);
   void apply_destinations(std::vector<int> dest, const fracdem::balance::PartitionResult& r);

@@ -82,8 +82,7 @@ TEST(BalanceSpec, ErrorsNameTheKeywordAndWhatWasExpected)
   EXPECT_EQ(spec_error({"0", "1.1"}), "Nevery must be a positive integer, got '0'");
   EXPECT_EQ(spec_error({"99999999999", "1.1"}),
             "Nevery must be a positive integer, got '99999999999'");
-  EXPECT_EQ(spec_error({"10", "0.9"}),
-            "thresh must be a number >= 1.0 (max/avg work), got '0.9'");
+  EXPECT_EQ(spec_error({"10", "0.9"}), "thresh must be a number >= 1.0 (max/avg work), got '0.9'");
   EXPECT_EQ(spec_error({"10", "1.1", "cost", "guess"}),
             "keyword 'cost': expected counts, calibrated, timed or fitted, got 'guess'");
   EXPECT_EQ(spec_error({"10", "1.1", "colour", "red"}),
@@ -115,6 +114,15 @@ TEST(BalanceSpec, DistributedPartitionerKeepsParticleVertices)
             std::string::npos);
   EXPECT_NE(spec_error({"10", "1.1", "partitioner", "ptscotch", "repartition", "scratch"})
                 .find("'partitioner ptscotch' partitions on all ranks in one call"),
+            std::string::npos);
+  // Zoltan's geometric methods cut the particles' positions: no cells, no `repartition` (unlike
+  // the gathered rcb, which needs cells).
+  EXPECT_EQ(parse_balance_spec({"10", "1.1", "partitioner", "zoltan-rcb"}).cell_factor, 0.0);
+  EXPECT_NE(spec_error({"10", "1.1", "partitioner", "zoltan-hsfc", "cells", "2"})
+                .find("keyword 'partitioner zoltan-hsfc' partitions one vertex per particle"),
+            std::string::npos);
+  EXPECT_NE(spec_error({"10", "1.1", "partitioner", "zoltan-rib", "repartition", "auto"})
+                .find("'partitioner zoltan-rib' partitions on all ranks in one call"),
             std::string::npos);
   // The default elsewhere is unchanged: cells two cutoffs wide.
   EXPECT_EQ(parse_balance_spec({"10", "1.1", "partitioner", "metis"}).cell_factor, 2.0);
@@ -150,8 +158,21 @@ TEST(PartitionStrategy, TableRejectsAnUnknownPartitionerByName)
   EXPECT_STREQ(find_partitioner("ptscotch").package, "libptscotch-dev");
   EXPECT_TRUE(find_partitioner("zoltan-phg").distributed);
   EXPECT_EQ(find_partitioner("zoltan-graph").id, Partitioner::ZoltanGraph);
+  // Zoltan's geometric methods: distributed, cut by coordinates, one call per repartition.
+  for (const char* name : {"zoltan-rcb", "zoltan-rib", "zoltan-hsfc"}) {
+    const PartitionerInfo& p = find_partitioner(name);
+    EXPECT_TRUE(p.distributed && p.geometric && p.repartitions) << name;
+    EXPECT_STREQ(p.package, "libtrilinos-zoltan-dev") << name;
+    EXPECT_EQ(&partitioner_info(p.id), &p) << name;
+  }
+  EXPECT_STREQ(find_partitioner("zoltan-rcb").zoltan_method, "RCB");
+  EXPECT_STREQ(find_partitioner("zoltan-rib").zoltan_method, "RIB");
+  EXPECT_STREQ(find_partitioner("zoltan-hsfc").zoltan_method, "HSFC");
+  EXPECT_STREQ(find_partitioner("zoltan-phg").zoltan_method, "HYPERGRAPH");
+  EXPECT_EQ(find_partitioner("metis").zoltan_method, nullptr);
   const char* expected = "keyword 'partitioner': expected metis or scotch or rcb or layers or "
-                         "ptscotch or zoltan-phg or zoltan-graph, got 'chaco'";
+                         "ptscotch or zoltan-phg or zoltan-graph or zoltan-rcb or zoltan-rib or "
+                         "zoltan-hsfc, got 'chaco'";
   try {
     find_partitioner("chaco");
     FAIL() << "an unknown partitioner was accepted";
@@ -172,8 +193,8 @@ TEST(PartitionStrategy, AgreesWithThePartitionersCalledDirectly)
     owner[v] = v % 12 < 8 ? 0 : 1; // two strips, 2:1
   const std::vector<double> load(g.vwgt.begin(), g.vwgt.end());
 
-  const PartitionResult scratch = PartitionStrategy(Partitioner::Metis, Strategy::Scratch)
-                                      .partition(g, owner, 2);
+  const PartitionResult scratch =
+      PartitionStrategy(Partitioner::Metis, Strategy::Scratch).partition(g, owner, 2);
   const std::vector<int> direct =
       relabel_max_overlap(partition_kway(g, 2, kPartitionTolerance), owner, load, 2);
   EXPECT_EQ(scratch.part, direct);
@@ -209,10 +230,10 @@ TEST(CostModel, WeightsOfAHandBuiltGraph)
   EXPECT_EQ(vertex_weights(GraphModel::APriori, work.cost, w.potential, 1.0),
             (std::vector<std::int64_t>{1, 2, 1}));
   const double mean = work.total / 3;
-  EXPECT_EQ(vertex_weights(GraphModel::APosteriori, work.cost, w.potential, mean),
-            (std::vector<std::int64_t>{std::llround(100 * 25.5 / mean),
-                                       std::llround(100 * 26.5 / mean),
-                                       std::llround(100 * 15.5 / mean)}));
+  EXPECT_EQ(
+      vertex_weights(GraphModel::APosteriori, work.cost, w.potential, mean),
+      (std::vector<std::int64_t>{std::llround(100 * 25.5 / mean), std::llround(100 * 26.5 / mean),
+                                 std::llround(100 * 15.5 / mean)}));
   // A contact edge weighs 1 + a contact in pair checks (a posteriori); every edge 1 a priori.
   EXPECT_EQ(edge_weights(GraphModel::APosteriori, c).of(true), 21);
   EXPECT_EQ(edge_weights(GraphModel::APosteriori, c).of(false), 1);
