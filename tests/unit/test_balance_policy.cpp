@@ -10,6 +10,7 @@
 
 #include "balance/balance_check.h"
 #include "balance/balance_report.h"
+#include "balance/balance_restart.h"
 #include "balance/balance_spec.h"
 #include "balance/cost_pricing.h"
 #include "balance/gathered_graph.h"
@@ -306,6 +307,79 @@ TEST(CostModel, FittedFollowsTheMeasuredTimeOverItsWindow)
   EXPECT_THROW(fitted.refit({1.0, 2.0}, 20), std::invalid_argument);
 }
 
+// A restart carries the prior, the costs and the fit's window: the restored pricing prices alike
+// and refits alike (the next refit drops the same oldest samples).
+TEST(CostModel, RestoredPricingContinuesTheFit)
+{
+  InteractionCosts prior;
+  prior.particle = 5, prior.pair_check = 1, prior.sphere_contact = 20;
+  CostPricing fitted(CostModel::Fitted, prior);
+  const auto sample = [](double factor, int seed) {
+    std::vector<double> per_rank;
+    for (int r = 0; r < 2; ++r) {
+      WorkCounts w;
+      w.reset(8 + 5 * r + seed % 3, 0);
+      for (int i = 0; i < w.size(); ++i)
+        w.potential[i] = (i * (r + 3) + seed) % 7, w.contacts[i] = (i + r + seed) % 3;
+      const TermCounts sums = w.term_sums(0);
+      per_rank.insert(per_rank.end(), sums.begin(), sums.end());
+      per_rank.push_back(factor * (1 + 0.1 * ((seed + r) % 4)) * sums[0]);
+    }
+    return per_rank;
+  };
+  for (int k = 0; k < kFitWindowChecks; ++k)
+    fitted.refit(sample(1.5, k), 10);
+  CostPricing restored(CostModel::Fitted, unit_costs()); // the start-up prior, replaced
+  restored.restore(fitted.state());
+  EXPECT_EQ(restored.state(), fitted.state());
+  EXPECT_TRUE(restored.has_fit());
+  const WorkCounts w = three_particles();
+  EXPECT_EQ(restored.price(w, false, 0.0, 10).cost, fitted.price(w, false, 0.0, 10).cost);
+  fitted.refit(sample(2.5, 17), 10);
+  restored.refit(sample(2.5, 17), 10);
+  EXPECT_EQ(restored.state(), fitted.state());
+  EXPECT_NE(restored.costs().pair_check, CostPricing(CostModel::Fitted, prior).costs().pair_check);
+  EXPECT_THROW(restored.restore(std::vector<double>(2 * kCostTerms + 1, 1.0)),
+               std::invalid_argument);
+}
+
+// The restart state reads back as written (outputs, schedule, grid, owners, costs), and a file of
+// the older format (the outputs' six numbers) reads as incomplete with its outputs.
+TEST(BalanceRestart, PacksAndReadsBack)
+{
+  BalanceRestart r;
+  r.outputs.imbalance = 1.25, r.outputs.predicted_imbalance = 1.01, r.outputs.repartitions = 3;
+  r.outputs.edge_cut = 417, r.outputs.checks = 9, r.outputs.measured_imbalance = 1.5;
+  r.nranks = 3, r.last_check = 140;
+  const double lo[3] = {0, 0, -1}, hi[3] = {1, 2, 1};
+  const bool periodic[3] = {true, false, false};
+  r.grid = make_cell_grid(lo, hi, 0.25, 3, periodic);
+  for (int64_t c = 0; c < r.grid.total(); ++c)
+    r.cell_owners.push_back(static_cast<int>(c % 3));
+  r.pricing = {1, 2, 3, 4.5};
+  const std::vector<double> packed = pack_balance_restart(r);
+  EXPECT_EQ(packed[0], -static_cast<double>(packed.size()));
+  const BalanceRestart back = unpack_balance_restart(packed.data());
+  EXPECT_TRUE(back.complete);
+  EXPECT_EQ(pack_balance_restart(back), packed);
+  EXPECT_EQ(back.cell_owners, r.cell_owners);
+  EXPECT_EQ(back.grid.total(), r.grid.total());
+  EXPECT_TRUE(back.grid.periodic[0] && !back.grid.periodic[1]);
+  EXPECT_EQ(back.last_check, 140);
+  EXPECT_EQ(back.outputs.predicted_imbalance, 1.01);
+
+  double old[BalanceOutputs::kRestartSize];
+  r.outputs.save(old);
+  const BalanceRestart legacy = unpack_balance_restart(old);
+  EXPECT_FALSE(legacy.complete);
+  EXPECT_EQ(legacy.outputs.repartitions, 3);
+  EXPECT_EQ(legacy.outputs.edge_cut, 417);
+
+  std::vector<double> bad = packed;
+  bad[0] = -20; // a count that the contents overrun
+  EXPECT_THROW(unpack_balance_restart(bad.data()), std::invalid_argument);
+}
+
 TEST(BalanceCheck, TriggerFiresExactlyAboveTheThreshold)
 {
   const ImbalanceTrigger t{1.1};
@@ -412,8 +486,10 @@ TEST(GatheredGraph, ParticleAndCellGraphsFromRankShares)
   const RootGraph rg = particle_graph(gg, 2);
   EXPECT_EQ(rg.g.num_vertices(), 3);
   EXPECT_EQ(rg.g.num_edges(), 1);
-  EXPECT_EQ(rg.g.vwgt, (std::vector<std::int64_t>{3, 1, 4}));
-  EXPECT_EQ(rg.old_owner, (std::vector<int>{0, 0, 1}));
+  // Vertices in tag order (2, 5, 7); the gathered entries (5, 7, 2) map back to them.
+  EXPECT_EQ(rg.g.vwgt, (std::vector<std::int64_t>{4, 3, 1}));
+  EXPECT_EQ(rg.old_owner, (std::vector<int>{1, 0, 0}));
+  EXPECT_EQ(parts_of_entries(rg, {20, 50, 70}), (std::vector<int>{50, 70, 20}));
 
   // Cells: particles of weight 2, 3, 5 in cells 0, 0, 3; their edges sum per cell pair.
   const LocalGraph lg = aggregate_cells({2, 3, 5}, {0, 0, 3}, {0, 3, 4, 3, 0, 1}, 4);

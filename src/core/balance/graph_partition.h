@@ -39,9 +39,19 @@ struct WeightedPair {
   int64_t w;
 };
 
+// Both directions of every pair (i, j, w), i != j, by source vertex: row v is
+// entries[start[v] .. start[v + 1]) of (neighbour, max(1, w)), in ascending neighbour order
+// (duplicates kept), whatever the order of `pairs`. Ends must lie in [0, n).
+struct SortedRows {
+  std::vector<int64_t> start;
+  std::vector<std::pair<int64_t, int64_t>> entries;
+};
+SortedRows sorted_rows(int64_t n, const std::vector<WeightedPair>& pairs);
+
 // Merges duplicate pairs (i,j)/(j,i) by summing weights, drops self loops, symmetrises; weights
-// are clamped to >= 1. Throws std::invalid_argument on out-of-range ids or a weight vector of the
-// wrong size.
+// are clamped to >= 1; each row lists its neighbours in ascending order (the graph does not
+// depend on the order of `pairs`). Throws std::invalid_argument on out-of-range ids or a weight
+// vector of the wrong size.
 Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
                   const std::vector<WeightedPair>& pairs);
 
