@@ -60,12 +60,17 @@ TEST(BalanceKernels, GraphsDoNotDependOnTheOrderOfTheirPairs)
   std::vector<WeightedPair> shuffled = pairs;
   std::shuffle(shuffled.begin(), shuffled.end(), rng);
   const std::vector<int64_t> vw(n, 1);
-  const Graph a = build_graph(n, vw, pairs), b = build_graph(n, vw, shuffled);
+  const Graph a = build_graph(n, vw, pairs, RowOrder::Ascending),
+              b = build_graph(n, vw, shuffled, RowOrder::Ascending);
   EXPECT_EQ(a.xadj, b.xadj);
   EXPECT_EQ(a.adjncy, b.adjncy);
   EXPECT_EQ(a.adjwgt, b.adjwgt);
   for (int64_t v = 0; v < n; ++v)
     EXPECT_TRUE(std::is_sorted(a.adjncy.begin() + a.xadj[v], a.adjncy.begin() + a.xadj[v + 1]));
+  // The default keeps the order of first appearance: the same graph up to the order in a row.
+  const Graph listed = build_graph(n, vw, shuffled);
+  EXPECT_EQ(listed.xadj, a.xadj);
+  EXPECT_NE(listed.adjncy, a.adjncy);
 
   // Cell graph: a 5 x 4 x 3 grid, every cell occupied, contact triples in two orders.
   const double lo[3] = {0, 0, 0}, hi[3] = {5, 4, 3};

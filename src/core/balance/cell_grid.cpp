@@ -118,7 +118,7 @@ Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
     const int64_t a = vertex(cell_edges[e]), b = vertex(cell_edges[e + 1]);
     if (a >= 0 && b >= 0 && a != b) pairs.push_back({a, b, cell_edges[e + 2]});
   }
-  const SortedRows contacts = sorted_rows(n, pairs);
+  const RowEntries contacts = sorted_rows(n, pairs);
 
   Graph g;
   const int zr = grid.n[2] > 1 ? 1 : 0;

@@ -75,7 +75,7 @@ RootGraph particle_graph(const GatheredGraph& gg, int nranks)
     const std::int64_t a = vertex(gg.edges[e]), b = vertex(gg.edges[e + 1]);
     if (a >= 0 && b >= 0) pairs.push_back({a, b, gg.edges[e + 2]});
   }
-  rg.g = build_graph(next, vwgt, pairs);
+  rg.g = build_graph(next, vwgt, pairs, RowOrder::Ascending);
   return rg;
 }
 

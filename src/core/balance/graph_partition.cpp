@@ -37,10 +37,10 @@ void GraphRowWriter::add(int64_t v, int64_t u, int64_t w)
 
 // Two counting sorts (O(n + pairs), where a comparison sort of all directed pairs dominated the
 // repartition): the directed entries by neighbour, then stably by source vertex.
-SortedRows sorted_rows(int64_t n, const std::vector<WeightedPair>& pairs)
+RowEntries sorted_rows(int64_t n, const std::vector<WeightedPair>& pairs)
 {
   std::vector<int64_t> by_nbr(n + 1, 0);
-  SortedRows r;
+  RowEntries r;
   r.start.assign(n + 1, 0);
   for (const WeightedPair& p : pairs)
     if (p.i != p.j) ++by_nbr[p.i + 1], ++by_nbr[p.j + 1], ++r.start[p.i + 1], ++r.start[p.j + 1];
@@ -63,8 +63,29 @@ SortedRows sorted_rows(int64_t n, const std::vector<WeightedPair>& pairs)
   return r;
 }
 
+// Both directions of every pair bucketed by source vertex (a counting sort: O(pairs)), each row
+// in the order of the pairs.
+RowEntries rows_as_listed(int64_t n, const std::vector<WeightedPair>& pairs)
+{
+  RowEntries r;
+  r.start.assign(n + 1, 0);
+  for (const WeightedPair& p : pairs)
+    if (p.i != p.j) ++r.start[p.i + 1], ++r.start[p.j + 1];
+  for (int64_t v = 0; v < n; ++v)
+    r.start[v + 1] += r.start[v];
+  r.entries.resize(r.start[n]);
+  std::vector<int64_t> fill(r.start.begin(), r.start.end() - 1);
+  for (const WeightedPair& p : pairs) {
+    if (p.i == p.j) continue;
+    const int64_t w = std::max<int64_t>(1, p.w);
+    r.entries[fill[p.i]++] = {p.j, w};
+    r.entries[fill[p.j]++] = {p.i, w};
+  }
+  return r;
+}
+
 Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
-                  const std::vector<WeightedPair>& pairs)
+                  const std::vector<WeightedPair>& pairs, RowOrder order)
 {
   if (n < 0 || static_cast<int64_t>(vertex_weight.size()) != n)
     throw std::invalid_argument("build_graph: vertex_weight must have one entry per vertex");
@@ -72,7 +93,8 @@ Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
     if (p.i < 0 || p.i >= n || p.j < 0 || p.j >= n)
       throw std::invalid_argument("build_graph: pair (" + std::to_string(p.i) + "," +
                                   std::to_string(p.j) + ") out of range");
-  const SortedRows sorted = sorted_rows(n, pairs);
+  const RowEntries sorted =
+      order == RowOrder::Ascending ? sorted_rows(n, pairs) : rows_as_listed(n, pairs);
   Graph g;
   GraphRowWriter rows(g, n, sorted.entries.size());
   for (int64_t v = 0; v < n; ++v) {
