@@ -185,9 +185,11 @@ def main():
             s = balance_of[m]
             row = dict(scene=a.scene, method=m, kind=METHODS[m][1], ranks=np_, reps=a.reps,
                        steps=steps, loop_s=statistics.median(loops[m]),
-                       wall_ratio=statistics.median(ratios), model_B=s["model_B"],
+                       wall_ratio=statistics.median(ratios), wall_ratio_min=min(ratios),
+                       wall_ratio_max=max(ratios), model_B=s["model_B"],
                        speedup=s["speedup"], repartitions=s["repartitions"],
                        migrated=s["migrated"], partition_share=s.get("partition_share"),
+                       ghosts_per_rank=s["ghosts_per_rank"],
                        wall_clock_valid=np_ <= cores)
             # Counted repartitioning at every check (thresh 1.0; the stock slabs never): the
             # traffic of a repartition is in every check of the window.
@@ -206,9 +208,11 @@ def main():
     last = [r for r in rows if r["ranks"] == a.ranks[-1]]
     plot(last, base + ".png", f"{a.scene}, {a.ranks[-1]} ranks, {steps} steps, "
                               f"counts over steps {window[0]}-{window[1]}")
-    print(balance.markdown_table(rows, ["method", "kind", "ranks", "wall_ratio", "loop_s",
+    print(balance.markdown_table(rows, ["method", "kind", "ranks", "wall_ratio", "wall_ratio_min",
+                                        "wall_ratio_max", "loop_s",
                                         "model_B", "repartitions", "migrated", "partition_share",
-                                        "msgs_rank_step", "bytes_rank_step", "step_partners",
+                                        "ghosts_per_rank", "msgs_rank_step", "bytes_rank_step",
+                                        "step_partners",
                                         "gather_bytes_per_repartition_max"]))
 
 
