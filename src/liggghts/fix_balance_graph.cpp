@@ -10,6 +10,7 @@
 #include <string>
 
 #include "atom.h"
+#include "balance/balance_restart.h"
 #include "balance/gathered_graph.h"
 #include "ptscotch_partition.h"
 #include "zoltan_partition.h"
@@ -52,8 +53,8 @@ fb::DistributedResult partition_distributed(fb::Partitioner p, const fb::Distrib
 {
   if (p == fb::Partitioner::PtScotch)
     return fb::partition_ptscotch(g, nparts, fb::kDistributedTolerance, comm);
-  return fb::partition_zoltan(g, nparts, fb::kDistributedTolerance,
-                              p == fb::Partitioner::ZoltanPhg, comm);
+  return fb::partition_zoltan(g, nparts, fb::kDistributedTolerance, p == fb::Partitioner::ZoltanPhg,
+                              comm);
 }
 
 double thread_cpu_seconds()
@@ -66,8 +67,8 @@ double thread_cpu_seconds()
 } // namespace
 
 FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
-    : Fix(lmp, narg, arg), spec_(read_spec(narg, arg)), schedule_(spec_.every),
-      trigger_{spec_.threshold}, pricing_(spec_.cost_model, start_costs()),
+    : Fix(lmp, narg, arg), spec_(read_spec(narg, arg)),
+      schedule_(spec_.every), trigger_{spec_.threshold}, pricing_(spec_.cost_model, start_costs()),
       strategy_(spec_.partitioner, spec_.strategy)
 {
   const fb::PartitionerInfo& partitioner = fb::partitioner_info(spec_.partitioner);
@@ -90,6 +91,8 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
   force_reneighbor = 1;
   next_reneighbor = -1;
   restart_global = 1;
+  restart_peratom = 1; // each particle's owner
+  atom->add_callback(1);
   peratom_flag = 1;
   size_peratom_cols = 0;
   peratom_freq = 1;
@@ -98,6 +101,7 @@ FixBalanceGraph::FixBalanceGraph(LAMMPS* lmp, int narg, char** arg)
 
 FixBalanceGraph::~FixBalanceGraph()
 {
+  atom->delete_callback(id, 1);
   if (out_) fclose(out_);
 }
 
@@ -266,7 +270,9 @@ std::vector<double> FixBalanceGraph::insert_limits() const
 // exists only after setup).
 void FixBalanceGraph::setup_pre_exchange()
 {
-  schedule_.setup(update->ntimestep, comm->nprocs > 1 && !comm_graph_->graph_ownership());
+  const bool restored = restore_ownership();
+  schedule_.setup(update->ntimestep,
+                  comm->nprocs > 1 && !restored && !comm_graph_->graph_ownership());
   next_reneighbor = schedule_.next();
 }
 
@@ -359,13 +365,16 @@ void FixBalanceGraph::count_pairs(Measured& m) const
     if (i >= nlocal) continue;
     const int* jlist = list->firstneigh[i];
     const int jnum = list->numneigh[i];
-    m.counts.potential[i] += jnum;
     for (int jj = 0; jj < jnum; ++jj) {
       const int j = jlist[jj] & NEIGHMASK;
       const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
       const double rs = radius[i] + radius[j];
       const bool touching = dx * dx + dy * dy + dz * dz < rs * rs;
-      m.counts.contacts[i] += touching;
+      // A pair of two local particles goes to the one with the lower tag, not to the one whose
+      // row the half list put it in: the costs do not depend on the order of the atoms.
+      const int payer = j < nlocal && tag[j] < tag[i] ? j : i;
+      m.counts.potential[payer] += 1;
+      m.counts.contacts[payer] += touching;
       if (!newton && j >= nlocal && tag[i] > tag[j]) continue;
       const std::int64_t a = by_cell ? m.cell[i] : tag[i];
       const std::int64_t b = by_cell ? grid_.cell_of(x[j]) : tag[j];
@@ -452,7 +461,9 @@ void FixBalanceGraph::repartition_particles(const Measured& m,
   const fb::RootSolve s = fb::solve_on_root(
       [&] {
         const fb::RootGraph rg = fb::particle_graph(gg, comm->nprocs);
-        return strategy_.partition(rg.g, rg.old_owner, comm->nprocs);
+        fb::PartitionResult r = strategy_.partition(rg.g, rg.old_owner, comm->nprocs);
+        r.part = fb::parts_of_entries(rg, r.part);
+        return r;
       },
       world);
   if (kept_owners(s.failed, s.failure)) return;
@@ -486,12 +497,33 @@ void FixBalanceGraph::repartition_distributed(const Measured& m,
     error->one(FLERR, (std::string("fix balance/graph: ") + e.what()).c_str());
   }
   const fb::DistributedResult r =
-      partition_distributed(spec_.partitioner, g, comm->nprocs, world);
+      fb::partitioner_info(spec_.partitioner).geometric
+          ? partition_geometric(g)
+          : partition_distributed(spec_.partitioner, g, comm->nprocs, world);
   if (kept_owners(r.failed, r.failure)) return;
   fb::PartitionResult result;
   result.predicted_imbalance = r.predicted_imbalance;
   result.edge_cut = r.edge_cut;
   apply_destinations(r.part, result);
+}
+
+// partitioner zoltan-rcb|rib|hsfc: Zoltan cuts this rank's particle positions weighted by the
+// graph's vertex weights; the graph's edges measure the cut.
+fb::DistributedResult FixBalanceGraph::partition_geometric(const fb::DistributedGraph& g)
+{
+  const fb::PartitionerInfo& info = fb::partitioner_info(spec_.partitioner);
+  if (!geometric_)
+    geometric_ = std::make_unique<fb::ZoltanGeometric>(info.zoltan_method, info.name, world);
+  const int dim = domain->dimension, nlocal = atom->nlocal;
+  std::vector<double> coords(static_cast<std::size_t>(dim) * nlocal);
+  for (int i = 0; i < nlocal; ++i)
+    for (int d = 0; d < dim; ++d)
+      coords[static_cast<std::size_t>(i) * dim + d] = atom->x[i][d];
+  const std::vector<double> weight(g.local.vwgt.begin(), g.local.vwgt.end());
+  fb::DistributedResult r =
+      geometric_->partition(coords, dim, weight, comm->nprocs, fb::kDistributedTolerance);
+  if (!r.failed) r.edge_cut = fb::distributed_edge_cut(g, r.part, world);
+  return r;
 }
 
 // This rank's vertices (weights) and edges (local i, global number of j, weight).
@@ -608,19 +640,105 @@ double FixBalanceGraph::compute_vector(int n)
   return outputs_.vector(n, comm_graph_ ? comm_graph_->migration_seconds() : 0.0);
 }
 
+// The outputs, schedule, costs and cell owners (rank 0 writes them; every rank holds the same).
 void FixBalanceGraph::write_restart(FILE* fp)
 {
   if (comm->me != 0) return;
-  double state[fb::BalanceOutputs::kRestartSize];
-  outputs_.save(state);
-  const int size = sizeof(state);
+  fb::BalanceRestart r;
+  r.outputs = outputs_;
+  r.nranks = comm_graph_ && comm_graph_->graph_ownership() ? comm->nprocs : 0;
+  r.last_check = schedule_.last_check();
+  if (comm_graph_ && comm_graph_->has_cell_owners()) {
+    r.grid = comm_graph_->cell_grid();
+    r.cell_owners = comm_graph_->cell_owners();
+  }
+  r.pricing = pricing_.state();
+  const std::vector<double> state = fb::pack_balance_restart(r);
+  const int size = static_cast<int>(state.size() * sizeof(double));
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(state, sizeof(state), 1, fp);
+  fwrite(state.data(), sizeof(double), state.size(), fp);
 }
 
 void FixBalanceGraph::restart(char* buf)
 {
-  double state[fb::BalanceOutputs::kRestartSize];
-  memcpy(state, buf, sizeof(state));
-  outputs_.load(state);
+  std::vector<double> state(1);
+  memcpy(state.data(), buf, sizeof(double));
+  state.resize(state[0] < 0 ? static_cast<std::size_t>(-state[0])
+                            : fb::BalanceOutputs::kRestartSize);
+  memcpy(state.data(), buf, state.size() * sizeof(double));
+  try {
+    const fb::BalanceRestart r = fb::unpack_balance_restart(state.data());
+    outputs_ = r.outputs;
+    if (!r.complete) return;
+    schedule_.resume(r.last_check);
+    if (!r.pricing.empty()) pricing_.restore(r.pricing);
+    restored_ranks_ = r.nranks;
+    restored_grid_ = r.grid;
+    restored_cells_ = r.cell_owners;
+  } catch (const std::exception& e) {
+    fail(std::string("reading the restart file: ") + e.what());
+  }
+}
+
+// Per particle: the rank that owns it.
+int FixBalanceGraph::pack_restart(int, double* buf)
+{
+  buf[0] = 2;
+  buf[1] = comm->me;
+  return 2;
+}
+
+void FixBalanceGraph::unpack_restart(int nlocal, int nth)
+{
+  double** extra = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; ++k)
+    m += static_cast<int>(extra[nlocal][m]);
+  if (static_cast<int>(restored_owner_.size()) < nlocal + 1) restored_owner_.resize(nlocal + 1, -1);
+  restored_owner_[nlocal] = static_cast<int>(extra[nlocal][m + 1]);
+}
+
+int FixBalanceGraph::size_restart(int)
+{
+  return 2;
+}
+
+int FixBalanceGraph::maxsize_restart()
+{
+  return 2;
+}
+
+// At the first set-up after a restart: the owners the file kept, if it was written on as many
+// ranks under graph ownership (cell owners, else each particle's). Collective; whether applied.
+bool FixBalanceGraph::restore_ownership()
+{
+  const int ranks = restored_ranks_;
+  restored_ranks_ = 0;
+  std::vector<int> owner = std::move(restored_owner_);
+  restored_owner_.clear();
+  if (ranks == 0) return false;
+  const int nlocal = atom->nlocal;
+  int mine = ranks == comm->nprocs &&
+             (!restored_cells_.empty() || static_cast<int>(owner.size()) == nlocal);
+  for (int i = 0; mine && restored_cells_.empty() && i < nlocal; ++i)
+    mine = owner[i] >= 0 && owner[i] < comm->nprocs;
+  int all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, world);
+  if (!all) {
+    if (comm->me == 0)
+      error->warning(FLERR,
+                     ("fix balance/graph: the restart file's owners (" + std::to_string(ranks) +
+                      " ranks) do not fit this run (" + std::to_string(comm->nprocs) +
+                      " ranks, or particles added or removed since): ownership starts "
+                      "from the host's bricks")
+                         .c_str());
+    return false;
+  }
+  comm_graph_->enable_graph_ownership("fix balance/graph");
+  if (!restored_cells_.empty())
+    comm_graph_->set_cell_owners(restored_grid_, std::move(restored_cells_));
+  else
+    comm_graph_->set_destinations(std::move(owner));
+  restored_cells_.clear();
+  return true;
 }

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "balance/partition_strategy.h"
 #include "balance_exchange.h"
 #include "distributed_graph.h"
+#include "zoltan_geometric.h"
 #include "fix.h"
 
 namespace LAMMPS_NS
@@ -44,6 +46,10 @@ public:
   double compute_vector(int) override;
   void write_restart(FILE*) override;
   void restart(char*) override;
+  int pack_restart(int, double*) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
 
 private:
   // What one check read from the host on this rank.
@@ -77,9 +83,18 @@ private:
   // Distributed graph: the global vertex number of each local and ghost particle (ghosts' from
   // their owners by forward communication).
   std::vector<double> vertex_number_;
+  // partitioner zoltan-rcb|rib|hsfc: Zoltan's object, kept between repartitions (created at the
+  // first).
+  std::unique_ptr<fracdem::balance::ZoltanGeometric> geometric_;
+  // From a restart file, until the set-up of the first run applies it: the ranks that owned the
+  // particles (0: ownership was the host's), the cell owners, and each local particle's owner.
+  int restored_ranks_ = 0;
+  fracdem::balance::CellGrid restored_grid_;
+  std::vector<int> restored_cells_, restored_owner_;
 
   void fail(const std::string& msg) const; // "fix balance/graph: MSG" on all ranks
   void log(const std::string& line) const; // screen and log file (rank 0 calls it)
+  bool restore_ownership();
   fracdem::balance::BalanceSpec read_spec(int narg, char** arg) const;
   fracdem::balance::InteractionCosts start_costs() const;
   void find_work_fixes();
@@ -97,6 +112,8 @@ private:
   void repartition_particles(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_cells(const Measured& m, const std::vector<std::int64_t>& weight);
   void repartition_distributed(const Measured& m, const std::vector<std::int64_t>& weight);
+  fracdem::balance::DistributedResult
+  partition_geometric(const fracdem::balance::DistributedGraph& g);
   fracdem::balance::DistributedShare
   distributed_share(const Measured& m, const std::vector<std::int64_t>& weight, std::int64_t first);
   void apply_destinations(std::vector<int> dest, const fracdem::balance::PartitionResult& r);

@@ -1,9 +1,9 @@
 // Unit tests of the load-balance kernels (graph, METIS, relabelling, pair search, cells, costs).
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <random>
@@ -45,6 +45,55 @@ TEST(BalanceKernels, BuildGraphMergesSymmetrisesAndDropsSelfLoops)
   const Graph lonely = build_graph(2, {3, 4}, {{1, 1, 9}});
   EXPECT_EQ(lonely.num_edges(), 0);
   EXPECT_EQ(lonely.xadj, (std::vector<int64_t>{0, 0, 0}));
+}
+
+// The graph does not depend on the order of its pairs (a restarted run lists its particles, and
+// so its edges, in another order): rows in ascending neighbour order, for particle and cell graphs.
+TEST(BalanceKernels, GraphsDoNotDependOnTheOrderOfTheirPairs)
+{
+  std::mt19937 rng(5);
+  const int64_t n = 40;
+  std::uniform_int_distribution<int64_t> vertex(0, n - 1), weight(1, 9);
+  std::vector<WeightedPair> pairs;
+  for (int k = 0; k < 500; ++k)
+    pairs.push_back({vertex(rng), vertex(rng), weight(rng)});
+  std::vector<WeightedPair> shuffled = pairs;
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const std::vector<int64_t> vw(n, 1);
+  const Graph a = build_graph(n, vw, pairs, RowOrder::Ascending),
+              b = build_graph(n, vw, shuffled, RowOrder::Ascending);
+  EXPECT_EQ(a.xadj, b.xadj);
+  EXPECT_EQ(a.adjncy, b.adjncy);
+  EXPECT_EQ(a.adjwgt, b.adjwgt);
+  for (int64_t v = 0; v < n; ++v)
+    EXPECT_TRUE(std::is_sorted(a.adjncy.begin() + a.xadj[v], a.adjncy.begin() + a.xadj[v + 1]));
+  // The default keeps the order of first appearance: the same graph up to the order in a row.
+  const Graph listed = build_graph(n, vw, shuffled);
+  EXPECT_EQ(listed.xadj, a.xadj);
+  EXPECT_NE(listed.adjncy, a.adjncy);
+
+  // Cell graph: a 5 x 4 x 3 grid, every cell occupied, contact triples in two orders.
+  const double lo[3] = {0, 0, 0}, hi[3] = {5, 4, 3};
+  const bool periodic[3] = {false, false, false};
+  const CellGrid grid = make_cell_grid(lo, hi, 1.0, 3, periodic);
+  std::vector<int64_t> cells(grid.total()), vertex_of_cell(grid.total());
+  for (int64_t c = 0; c < grid.total(); ++c)
+    cells[c] = vertex_of_cell[c] = c;
+  std::uniform_int_distribution<int64_t> cell(0, grid.total() - 1);
+  std::vector<std::array<int64_t, 3>> triples;
+  for (int k = 0; k < 300; ++k)
+    triples.push_back({cell(rng), cell(rng), weight(rng)});
+  const auto flat = [](const std::vector<std::array<int64_t, 3>>& t) {
+    std::vector<int64_t> out;
+    for (const auto& e : t)
+      out.insert(out.end(), e.begin(), e.end());
+    return out;
+  };
+  const Graph ca = build_cell_graph(grid, cells, vertex_of_cell, cells, flat(triples));
+  std::shuffle(triples.begin(), triples.end(), rng);
+  const Graph cb = build_cell_graph(grid, cells, vertex_of_cell, cells, flat(triples));
+  EXPECT_EQ(ca.adjncy, cb.adjncy);
+  EXPECT_EQ(ca.adjwgt, cb.adjwgt);
 }
 
 // Random pairs with many repeats in both directions against an ordered-map reference: each row

@@ -10,6 +10,7 @@
 
 #include "balance/balance_check.h"
 #include "balance/balance_report.h"
+#include "balance/balance_restart.h"
 #include "balance/balance_spec.h"
 #include "balance/cost_pricing.h"
 #include "balance/gathered_graph.h"
@@ -82,8 +83,7 @@ TEST(BalanceSpec, ErrorsNameTheKeywordAndWhatWasExpected)
   EXPECT_EQ(spec_error({"0", "1.1"}), "Nevery must be a positive integer, got '0'");
   EXPECT_EQ(spec_error({"99999999999", "1.1"}),
             "Nevery must be a positive integer, got '99999999999'");
-  EXPECT_EQ(spec_error({"10", "0.9"}),
-            "thresh must be a number >= 1.0 (max/avg work), got '0.9'");
+  EXPECT_EQ(spec_error({"10", "0.9"}), "thresh must be a number >= 1.0 (max/avg work), got '0.9'");
   EXPECT_EQ(spec_error({"10", "1.1", "cost", "guess"}),
             "keyword 'cost': expected counts, calibrated, timed or fitted, got 'guess'");
   EXPECT_EQ(spec_error({"10", "1.1", "colour", "red"}),
@@ -115,6 +115,15 @@ TEST(BalanceSpec, DistributedPartitionerKeepsParticleVertices)
             std::string::npos);
   EXPECT_NE(spec_error({"10", "1.1", "partitioner", "ptscotch", "repartition", "scratch"})
                 .find("'partitioner ptscotch' partitions on all ranks in one call"),
+            std::string::npos);
+  // Zoltan's geometric methods cut the particles' positions: no cells, no `repartition` (unlike
+  // the gathered rcb, which needs cells).
+  EXPECT_EQ(parse_balance_spec({"10", "1.1", "partitioner", "zoltan-rcb"}).cell_factor, 0.0);
+  EXPECT_NE(spec_error({"10", "1.1", "partitioner", "zoltan-hsfc", "cells", "2"})
+                .find("keyword 'partitioner zoltan-hsfc' partitions one vertex per particle"),
+            std::string::npos);
+  EXPECT_NE(spec_error({"10", "1.1", "partitioner", "zoltan-rib", "repartition", "auto"})
+                .find("'partitioner zoltan-rib' partitions on all ranks in one call"),
             std::string::npos);
   // The default elsewhere is unchanged: cells two cutoffs wide.
   EXPECT_EQ(parse_balance_spec({"10", "1.1", "partitioner", "metis"}).cell_factor, 2.0);
@@ -150,8 +159,21 @@ TEST(PartitionStrategy, TableRejectsAnUnknownPartitionerByName)
   EXPECT_STREQ(find_partitioner("ptscotch").package, "libptscotch-dev");
   EXPECT_TRUE(find_partitioner("zoltan-phg").distributed);
   EXPECT_EQ(find_partitioner("zoltan-graph").id, Partitioner::ZoltanGraph);
+  // Zoltan's geometric methods: distributed, cut by coordinates, one call per repartition.
+  for (const char* name : {"zoltan-rcb", "zoltan-rib", "zoltan-hsfc"}) {
+    const PartitionerInfo& p = find_partitioner(name);
+    EXPECT_TRUE(p.distributed && p.geometric && p.repartitions) << name;
+    EXPECT_STREQ(p.package, "libtrilinos-zoltan-dev") << name;
+    EXPECT_EQ(&partitioner_info(p.id), &p) << name;
+  }
+  EXPECT_STREQ(find_partitioner("zoltan-rcb").zoltan_method, "RCB");
+  EXPECT_STREQ(find_partitioner("zoltan-rib").zoltan_method, "RIB");
+  EXPECT_STREQ(find_partitioner("zoltan-hsfc").zoltan_method, "HSFC");
+  EXPECT_STREQ(find_partitioner("zoltan-phg").zoltan_method, "HYPERGRAPH");
+  EXPECT_EQ(find_partitioner("metis").zoltan_method, nullptr);
   const char* expected = "keyword 'partitioner': expected metis or scotch or rcb or layers or "
-                         "ptscotch or zoltan-phg or zoltan-graph, got 'chaco'";
+                         "ptscotch or zoltan-phg or zoltan-graph or zoltan-rcb or zoltan-rib or "
+                         "zoltan-hsfc, got 'chaco'";
   try {
     find_partitioner("chaco");
     FAIL() << "an unknown partitioner was accepted";
@@ -172,8 +194,8 @@ TEST(PartitionStrategy, AgreesWithThePartitionersCalledDirectly)
     owner[v] = v % 12 < 8 ? 0 : 1; // two strips, 2:1
   const std::vector<double> load(g.vwgt.begin(), g.vwgt.end());
 
-  const PartitionResult scratch = PartitionStrategy(Partitioner::Metis, Strategy::Scratch)
-                                      .partition(g, owner, 2);
+  const PartitionResult scratch =
+      PartitionStrategy(Partitioner::Metis, Strategy::Scratch).partition(g, owner, 2);
   const std::vector<int> direct =
       relabel_max_overlap(partition_kway(g, 2, kPartitionTolerance), owner, load, 2);
   EXPECT_EQ(scratch.part, direct);
@@ -209,10 +231,10 @@ TEST(CostModel, WeightsOfAHandBuiltGraph)
   EXPECT_EQ(vertex_weights(GraphModel::APriori, work.cost, w.potential, 1.0),
             (std::vector<std::int64_t>{1, 2, 1}));
   const double mean = work.total / 3;
-  EXPECT_EQ(vertex_weights(GraphModel::APosteriori, work.cost, w.potential, mean),
-            (std::vector<std::int64_t>{std::llround(100 * 25.5 / mean),
-                                       std::llround(100 * 26.5 / mean),
-                                       std::llround(100 * 15.5 / mean)}));
+  EXPECT_EQ(
+      vertex_weights(GraphModel::APosteriori, work.cost, w.potential, mean),
+      (std::vector<std::int64_t>{std::llround(100 * 25.5 / mean), std::llround(100 * 26.5 / mean),
+                                 std::llround(100 * 15.5 / mean)}));
   // A contact edge weighs 1 + a contact in pair checks (a posteriori); every edge 1 a priori.
   EXPECT_EQ(edge_weights(GraphModel::APosteriori, c).of(true), 21);
   EXPECT_EQ(edge_weights(GraphModel::APosteriori, c).of(false), 1);
@@ -283,6 +305,79 @@ TEST(CostModel, FittedFollowsTheMeasuredTimeOverItsWindow)
   const RankWork work = fitted.price(w, false, 0.0, 20);
   EXPECT_NEAR(work.cost[0], 20 * particle_cost(fitted.costs(), w.particle(0)), 1e-9);
   EXPECT_THROW(fitted.refit({1.0, 2.0}, 20), std::invalid_argument);
+}
+
+// A restart carries the prior, the costs and the fit's window: the restored pricing prices alike
+// and refits alike (the next refit drops the same oldest samples).
+TEST(CostModel, RestoredPricingContinuesTheFit)
+{
+  InteractionCosts prior;
+  prior.particle = 5, prior.pair_check = 1, prior.sphere_contact = 20;
+  CostPricing fitted(CostModel::Fitted, prior);
+  const auto sample = [](double factor, int seed) {
+    std::vector<double> per_rank;
+    for (int r = 0; r < 2; ++r) {
+      WorkCounts w;
+      w.reset(8 + 5 * r + seed % 3, 0);
+      for (int i = 0; i < w.size(); ++i)
+        w.potential[i] = (i * (r + 3) + seed) % 7, w.contacts[i] = (i + r + seed) % 3;
+      const TermCounts sums = w.term_sums(0);
+      per_rank.insert(per_rank.end(), sums.begin(), sums.end());
+      per_rank.push_back(factor * (1 + 0.1 * ((seed + r) % 4)) * sums[0]);
+    }
+    return per_rank;
+  };
+  for (int k = 0; k < kFitWindowChecks; ++k)
+    fitted.refit(sample(1.5, k), 10);
+  CostPricing restored(CostModel::Fitted, unit_costs()); // the start-up prior, replaced
+  restored.restore(fitted.state());
+  EXPECT_EQ(restored.state(), fitted.state());
+  EXPECT_TRUE(restored.has_fit());
+  const WorkCounts w = three_particles();
+  EXPECT_EQ(restored.price(w, false, 0.0, 10).cost, fitted.price(w, false, 0.0, 10).cost);
+  fitted.refit(sample(2.5, 17), 10);
+  restored.refit(sample(2.5, 17), 10);
+  EXPECT_EQ(restored.state(), fitted.state());
+  EXPECT_NE(restored.costs().pair_check, CostPricing(CostModel::Fitted, prior).costs().pair_check);
+  EXPECT_THROW(restored.restore(std::vector<double>(2 * kCostTerms + 1, 1.0)),
+               std::invalid_argument);
+}
+
+// The restart state reads back as written (outputs, schedule, grid, owners, costs), and a file of
+// the older format (the outputs' six numbers) reads as incomplete with its outputs.
+TEST(BalanceRestart, PacksAndReadsBack)
+{
+  BalanceRestart r;
+  r.outputs.imbalance = 1.25, r.outputs.predicted_imbalance = 1.01, r.outputs.repartitions = 3;
+  r.outputs.edge_cut = 417, r.outputs.checks = 9, r.outputs.measured_imbalance = 1.5;
+  r.nranks = 3, r.last_check = 140;
+  const double lo[3] = {0, 0, -1}, hi[3] = {1, 2, 1};
+  const bool periodic[3] = {true, false, false};
+  r.grid = make_cell_grid(lo, hi, 0.25, 3, periodic);
+  for (int64_t c = 0; c < r.grid.total(); ++c)
+    r.cell_owners.push_back(static_cast<int>(c % 3));
+  r.pricing = {1, 2, 3, 4.5};
+  const std::vector<double> packed = pack_balance_restart(r);
+  EXPECT_EQ(packed[0], -static_cast<double>(packed.size()));
+  const BalanceRestart back = unpack_balance_restart(packed.data());
+  EXPECT_TRUE(back.complete);
+  EXPECT_EQ(pack_balance_restart(back), packed);
+  EXPECT_EQ(back.cell_owners, r.cell_owners);
+  EXPECT_EQ(back.grid.total(), r.grid.total());
+  EXPECT_TRUE(back.grid.periodic[0] && !back.grid.periodic[1]);
+  EXPECT_EQ(back.last_check, 140);
+  EXPECT_EQ(back.outputs.predicted_imbalance, 1.01);
+
+  double old[BalanceOutputs::kRestartSize];
+  r.outputs.save(old);
+  const BalanceRestart legacy = unpack_balance_restart(old);
+  EXPECT_FALSE(legacy.complete);
+  EXPECT_EQ(legacy.outputs.repartitions, 3);
+  EXPECT_EQ(legacy.outputs.edge_cut, 417);
+
+  std::vector<double> bad = packed;
+  bad[0] = -20; // a count that the contents overrun
+  EXPECT_THROW(unpack_balance_restart(bad.data()), std::invalid_argument);
 }
 
 TEST(BalanceCheck, TriggerFiresExactlyAboveTheThreshold)
@@ -391,8 +486,10 @@ TEST(GatheredGraph, ParticleAndCellGraphsFromRankShares)
   const RootGraph rg = particle_graph(gg, 2);
   EXPECT_EQ(rg.g.num_vertices(), 3);
   EXPECT_EQ(rg.g.num_edges(), 1);
-  EXPECT_EQ(rg.g.vwgt, (std::vector<std::int64_t>{3, 1, 4}));
-  EXPECT_EQ(rg.old_owner, (std::vector<int>{0, 0, 1}));
+  // Vertices in tag order (2, 5, 7); the gathered entries (5, 7, 2) map back to them.
+  EXPECT_EQ(rg.g.vwgt, (std::vector<std::int64_t>{4, 3, 1}));
+  EXPECT_EQ(rg.old_owner, (std::vector<int>{1, 0, 0}));
+  EXPECT_EQ(parts_of_entries(rg, {20, 50, 70}), (std::vector<int>{50, 70, 20}));
 
   // Cells: particles of weight 2, 3, 5 in cells 0, 0, 3; their edges sum per cell pair.
   const LocalGraph lg = aggregate_cells({2, 3, 5}, {0, 0, 3}, {0, 3, 4, 3, 0, 1}, 4);

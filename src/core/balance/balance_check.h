@@ -39,11 +39,15 @@ public:
   // the interval the first check measures.
   void setup(long long step, bool start_balanced);
   long long next() const { return next_; }
+  // The step of the last check (-1: none yet); a run continued from a restart file resumes from
+  // it (before its set-up), so that its first check measures the same interval.
+  long long last_check() const { return last_; }
+  void resume(long long last_check) { last_ = last_check; }
   bool due(long long step) const { return step == next_; }
 
   struct Check {
-    bool start = false;         // the start check of a run
-    double interval_steps = 1;  // steps since the previous check (at least 1)
+    bool start = false;        // the start check of a run
+    double interval_steps = 1; // steps since the previous check (at least 1)
   };
   // At a due check at `step`: what it is, and the next one scheduled.
   Check take(long long step);

@@ -110,32 +110,24 @@ Graph build_cell_graph(const CellGrid& grid, const std::vector<int64_t>& cells,
     return cell >= 0 && cell < total ? vertex_of_cell[cell] : int64_t{-1};
   };
 
-  // Contact entries of both directions bucketed by source vertex (counting sort).
-  std::vector<int64_t> start(n + 1, 0);
+  // Contact entries of both directions by source vertex, in ascending neighbour order: the graph
+  // does not depend on the order in which the ranks listed their edges.
+  std::vector<WeightedPair> pairs;
+  pairs.reserve(cell_edges.size() / 3);
   for (size_t e = 0; e < cell_edges.size(); e += 3) {
     const int64_t a = vertex(cell_edges[e]), b = vertex(cell_edges[e + 1]);
-    if (a >= 0 && b >= 0 && a != b) ++start[a + 1], ++start[b + 1];
+    if (a >= 0 && b >= 0 && a != b) pairs.push_back({a, b, cell_edges[e + 2]});
   }
-  for (int64_t v = 0; v < n; ++v)
-    start[v + 1] += start[v];
-  std::vector<std::pair<int64_t, int64_t>> contacts(start[n]); // (neighbour, weight)
-  std::vector<int64_t> fill(start.begin(), start.end() - 1);
-  for (size_t e = 0; e < cell_edges.size(); e += 3) {
-    const int64_t a = vertex(cell_edges[e]), b = vertex(cell_edges[e + 1]);
-    if (a < 0 || b < 0 || a == b) continue;
-    const int64_t w = std::max<int64_t>(1, cell_edges[e + 2]);
-    contacts[fill[a]++] = {b, w};
-    contacts[fill[b]++] = {a, w};
-  }
+  const RowEntries contacts = sorted_rows(n, pairs);
 
   Graph g;
   const int zr = grid.n[2] > 1 ? 1 : 0;
   const size_t stencil = zr ? 26 : 8;
-  GraphRowWriter rows(g, n, contacts.size() + stencil * static_cast<size_t>(n));
+  GraphRowWriter rows(g, n, contacts.entries.size() + stencil * static_cast<size_t>(n));
   for (int64_t v = 0; v < n; ++v) {
     g.vwgt[v] = std::max<int64_t>(1, vwgt[v]);
-    for (int64_t k = start[v]; k < start[v + 1]; ++k)
-      rows.add(v, contacts[k].first, contacts[k].second);
+    for (int64_t k = contacts.start[v]; k < contacts.start[v + 1]; ++k)
+      rows.add(v, contacts.entries[k].first, contacts.entries[k].second);
     int64_t c[3];
     grid.coords(cells[v], c);
     for (int dz = -zr; dz <= zr; ++dz)

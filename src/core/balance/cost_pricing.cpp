@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace fracdem::balance
 {
@@ -36,6 +37,42 @@ void CostPricing::refit(const std::vector<double>& per_rank, double interval_ste
   const std::size_t keep = static_cast<std::size_t>(kFitWindowChecks) * nranks;
   if (samples_.size() > keep) samples_.erase(samples_.begin(), samples_.end() - keep);
   costs_ = interaction_costs(fit_costs(samples_, cost_array(prior_), kFitShrink));
+}
+
+std::vector<double> CostPricing::state() const
+{
+  std::vector<double> s;
+  for (const InteractionCosts& c : {prior_, costs_}) {
+    const TermCounts a = cost_array(c);
+    s.insert(s.end(), a.begin(), a.end());
+  }
+  for (const CostSample& sample : samples_) {
+    s.insert(s.end(), sample.counts.begin(), sample.counts.end());
+    s.push_back(sample.seconds);
+  }
+  return s;
+}
+
+void CostPricing::restore(const std::vector<double>& state)
+{
+  constexpr std::size_t stride = kCostTerms + 1;
+  if (state.size() < 2 * kCostTerms || (state.size() - 2 * kCostTerms) % stride != 0)
+    throw std::invalid_argument("CostPricing::restore: expected the prior and current costs (" +
+                                std::to_string(2 * kCostTerms) + " numbers) and whole samples (" +
+                                std::to_string(stride) + " each), got " +
+                                std::to_string(state.size()) + " numbers");
+  TermCounts a;
+  std::copy(state.begin(), state.begin() + kCostTerms, a.begin());
+  prior_ = interaction_costs(a);
+  std::copy(state.begin() + kCostTerms, state.begin() + 2 * kCostTerms, a.begin());
+  costs_ = interaction_costs(a);
+  samples_.clear();
+  for (std::size_t k = 2 * kCostTerms; k < state.size(); k += stride) {
+    CostSample sample;
+    std::copy(&state[k], &state[k] + kCostTerms, sample.counts.begin());
+    sample.seconds = state[k + kCostTerms];
+    samples_.push_back(sample);
+  }
 }
 
 RankWork CostPricing::price(const WorkCounts& w, bool start_check, double measured_seconds,

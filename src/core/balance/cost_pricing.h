@@ -30,8 +30,10 @@ constexpr double kFitShrink = 0.05;
 class CostPricing
 {
 public:
-  CostPricing(CostModel model, const InteractionCosts& prior) : model_(model), prior_(prior),
-                                                                costs_(prior) {}
+  CostPricing(CostModel model, const InteractionCosts& prior)
+      : model_(model), prior_(prior), costs_(prior)
+  {
+  }
   CostModel model() const { return model_; }
   const InteractionCosts& costs() const { return costs_; }
   bool has_fit() const { return !samples_.empty(); } // costs() come from a fit
@@ -51,6 +53,12 @@ public:
   // check compares the measured time of the whole interval), total = measured where > 0.
   RankWork price(const WorkCounts& w, bool start_check, double measured_seconds,
                  double interval_steps) const;
+
+  // The state a restart carries: the prior (calibrated costs are measured once, at the start of
+  // the first run), the current costs and the fit's samples, as numbers. restore() takes what
+  // state() gave (the same model) and throws std::invalid_argument on a size that does not fit.
+  std::vector<double> state() const;
+  void restore(const std::vector<double>& state);
 
 private:
   CostModel model_;

@@ -46,19 +46,26 @@ RootGraph particle_graph(const GatheredGraph& gg, int nranks)
 {
   const std::int64_t n = gg.vtotal / 2;
   RootGraph rg;
-  std::vector<std::int64_t> vwgt(n);
-  rg.old_owner.resize(n);
-  for (int p = 0; p < nranks; ++p)
-    for (int k = gg.vdisp[p] / 2; k < (gg.vdisp[p] + gg.vcount[p]) / 2; ++k)
-      rg.old_owner[k] = p;
   std::int64_t max_tag = 0;
-  for (std::int64_t v = 0; v < n; ++v)
-    max_tag = std::max(max_tag, gg.verts[2 * v]);
+  for (std::int64_t k = 0; k < n; ++k)
+    max_tag = std::max(max_tag, gg.verts[2 * k]);
+  // Vertices in ascending tag order, whatever order the ranks listed their particles in.
   std::vector<std::int64_t> vertex_of_tag(max_tag + 1, -1);
-  for (std::int64_t v = 0; v < n; ++v) {
-    vertex_of_tag[gg.verts[2 * v]] = v;
-    vwgt[v] = gg.verts[2 * v + 1];
-  }
+  for (std::int64_t k = 0; k < n; ++k)
+    vertex_of_tag[gg.verts[2 * k]] = 0;
+  std::int64_t next = 0;
+  for (std::int64_t& v : vertex_of_tag)
+    if (v == 0) v = next++;
+  std::vector<std::int64_t> vwgt(next);
+  rg.old_owner.resize(next);
+  rg.entry_vertex.resize(n);
+  for (int p = 0; p < nranks; ++p)
+    for (int k = gg.vdisp[p] / 2; k < (gg.vdisp[p] + gg.vcount[p]) / 2; ++k) {
+      const std::int64_t v = vertex_of_tag[gg.verts[2 * k]];
+      rg.entry_vertex[k] = v;
+      rg.old_owner[v] = p;
+      vwgt[v] = gg.verts[2 * k + 1];
+    }
   const auto vertex = [&](std::int64_t tag) {
     return tag >= 0 && tag <= max_tag ? vertex_of_tag[tag] : std::int64_t{-1};
   };
@@ -68,28 +75,38 @@ RootGraph particle_graph(const GatheredGraph& gg, int nranks)
     const std::int64_t a = vertex(gg.edges[e]), b = vertex(gg.edges[e + 1]);
     if (a >= 0 && b >= 0) pairs.push_back({a, b, gg.edges[e + 2]});
   }
-  rg.g = build_graph(n, vwgt, pairs);
+  rg.g = build_graph(next, vwgt, pairs, RowOrder::Ascending);
   return rg;
+}
+
+std::vector<int> parts_of_entries(const RootGraph& rg, const std::vector<int>& part)
+{
+  std::vector<int> out(rg.entry_vertex.size());
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = part[rg.entry_vertex[k]];
+  return out;
 }
 
 RootGraph cell_graph(const GatheredGraph& gg, const CellGrid& grid, int nranks)
 {
-  // Dense cell index (the owner table handed back has one entry per cell anyway).
+  // Dense cell index in ascending cell order (the owner table handed back has one entry per cell
+  // anyway), whatever order the ranks listed their cells in.
   std::vector<std::int64_t> vertex_of_cell(grid.total(), -1);
-  std::vector<std::int64_t> vwgt, best_share;
+  for (int k = 0; k < gg.vtotal; k += 2)
+    vertex_of_cell[gg.verts[k]] = 0;
   RootGraph rg;
+  for (std::int64_t c = 0; c < grid.total(); ++c)
+    if (vertex_of_cell[c] == 0) {
+      vertex_of_cell[c] = static_cast<std::int64_t>(rg.cells.size());
+      rg.cells.push_back(c);
+    }
+  std::vector<std::int64_t> vwgt(rg.cells.size(), 0), best_share(rg.cells.size(), -1);
+  rg.old_owner.assign(rg.cells.size(), 0);
   for (int p = 0; p < nranks; ++p)
     for (int k = gg.vdisp[p]; k < gg.vdisp[p] + gg.vcount[p]; k += 2) {
-      const std::int64_t cell = gg.verts[k], w = gg.verts[k + 1];
-      const std::int64_t v = vertex_of_cell[cell];
-      if (v < 0) {
-        vertex_of_cell[cell] = static_cast<std::int64_t>(rg.cells.size());
-        rg.cells.push_back(cell), vwgt.push_back(w), best_share.push_back(w);
-        rg.old_owner.push_back(p);
-      } else {
-        vwgt[v] += w;
-        if (w > best_share[v]) best_share[v] = w, rg.old_owner[v] = p;
-      }
+      const std::int64_t v = vertex_of_cell[gg.verts[k]], w = gg.verts[k + 1];
+      vwgt[v] += w;
+      if (w > best_share[v]) best_share[v] = w, rg.old_owner[v] = p;
     }
   rg.g = build_cell_graph(grid, rg.cells, vertex_of_cell, vwgt, gg.edges);
   return rg;

@@ -40,12 +40,19 @@ LocalGraph aggregate_cells(const std::vector<std::int64_t>& weight,
 struct RootGraph {
   Graph g;
   std::vector<int> old_owner;
-  std::vector<std::int64_t> cells; // cell graph: the cell of each vertex
+  std::vector<std::int64_t> cells;        // cell graph: the cell of each vertex
+  std::vector<std::int64_t> entry_vertex; // particle graph: the vertex of each gathered entry
 };
 
+// Vertices are numbered in ascending tag or cell order, so that the graph (and the partition)
+// does not depend on the order in which the ranks hold their particles (a run continued from a
+// restart file holds them in another order).
+//
 // Particle vertices of all ranks (tags positive, at most a few times the particle count: a dense
 // index); edges naming a tag not among the vertices are dropped. Owner: the rank that sent it.
 RootGraph particle_graph(const GatheredGraph& gg, int nranks);
+// The parts of the particle graph's vertices in the order of the gathered entries (scatter_parts).
+std::vector<int> parts_of_entries(const RootGraph& rg, const std::vector<int>& part);
 // Occupied cells of all ranks; a cell shared by several ranks weighs the sum of their shares and
 // starts with the rank holding most of it. Unit edges join touching occupied cells
 // (build_cell_graph), which keeps parts compact where particles have no neighbours yet.

@@ -35,8 +35,57 @@ void GraphRowWriter::add(int64_t v, int64_t u, int64_t w)
   g_.adjwgt.push_back(w);
 }
 
+// Two counting sorts (O(n + pairs), where a comparison sort of all directed pairs dominated the
+// repartition): the directed entries by neighbour, then stably by source vertex.
+RowEntries sorted_rows(int64_t n, const std::vector<WeightedPair>& pairs)
+{
+  std::vector<int64_t> by_nbr(n + 1, 0);
+  RowEntries r;
+  r.start.assign(n + 1, 0);
+  for (const WeightedPair& p : pairs)
+    if (p.i != p.j) ++by_nbr[p.i + 1], ++by_nbr[p.j + 1], ++r.start[p.i + 1], ++r.start[p.j + 1];
+  for (int64_t v = 0; v < n; ++v)
+    by_nbr[v + 1] += by_nbr[v], r.start[v + 1] += r.start[v];
+  struct Directed {
+    int64_t from, to, w;
+  };
+  std::vector<Directed> sorted_by_nbr(by_nbr[n]);
+  for (const WeightedPair& p : pairs) {
+    if (p.i == p.j) continue;
+    const int64_t w = std::max<int64_t>(1, p.w);
+    sorted_by_nbr[by_nbr[p.j]++] = {p.i, p.j, w};
+    sorted_by_nbr[by_nbr[p.i]++] = {p.j, p.i, w};
+  }
+  r.entries.resize(r.start[n]);
+  std::vector<int64_t> fill(r.start.begin(), r.start.end() - 1);
+  for (const Directed& d : sorted_by_nbr)
+    r.entries[fill[d.from]++] = {d.to, d.w};
+  return r;
+}
+
+// Both directions of every pair bucketed by source vertex (a counting sort: O(pairs)), each row
+// in the order of the pairs.
+RowEntries rows_as_listed(int64_t n, const std::vector<WeightedPair>& pairs)
+{
+  RowEntries r;
+  r.start.assign(n + 1, 0);
+  for (const WeightedPair& p : pairs)
+    if (p.i != p.j) ++r.start[p.i + 1], ++r.start[p.j + 1];
+  for (int64_t v = 0; v < n; ++v)
+    r.start[v + 1] += r.start[v];
+  r.entries.resize(r.start[n]);
+  std::vector<int64_t> fill(r.start.begin(), r.start.end() - 1);
+  for (const WeightedPair& p : pairs) {
+    if (p.i == p.j) continue;
+    const int64_t w = std::max<int64_t>(1, p.w);
+    r.entries[fill[p.i]++] = {p.j, w};
+    r.entries[fill[p.j]++] = {p.i, w};
+  }
+  return r;
+}
+
 Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
-                  const std::vector<WeightedPair>& pairs)
+                  const std::vector<WeightedPair>& pairs, RowOrder order)
 {
   if (n < 0 || static_cast<int64_t>(vertex_weight.size()) != n)
     throw std::invalid_argument("build_graph: vertex_weight must have one entry per vertex");
@@ -44,28 +93,14 @@ Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
     if (p.i < 0 || p.i >= n || p.j < 0 || p.j >= n)
       throw std::invalid_argument("build_graph: pair (" + std::to_string(p.i) + "," +
                                   std::to_string(p.j) + ") out of range");
-  // Both directions of every pair bucketed by source vertex (a counting sort: O(pairs), where a
-  // comparison sort of all directed pairs dominated the repartition); duplicates within a row are
-  // merged by summing their weights, neighbours kept in order of first appearance.
-  std::vector<int64_t> start(n + 1, 0);
-  for (const WeightedPair& p : pairs)
-    if (p.i != p.j) ++start[p.i + 1], ++start[p.j + 1];
-  for (int64_t v = 0; v < n; ++v)
-    start[v + 1] += start[v];
-  std::vector<std::pair<int64_t, int64_t>> row_entries(start[n]); // (neighbour, weight)
-  std::vector<int64_t> fill(start.begin(), start.end() - 1);
-  for (const WeightedPair& p : pairs) {
-    if (p.i == p.j) continue;
-    const int64_t w = std::max<int64_t>(1, p.w);
-    row_entries[fill[p.i]++] = {p.j, w};
-    row_entries[fill[p.j]++] = {p.i, w};
-  }
+  const RowEntries sorted =
+      order == RowOrder::Ascending ? sorted_rows(n, pairs) : rows_as_listed(n, pairs);
   Graph g;
-  GraphRowWriter rows(g, n, row_entries.size());
+  GraphRowWriter rows(g, n, sorted.entries.size());
   for (int64_t v = 0; v < n; ++v) {
     g.vwgt[v] = std::max<int64_t>(1, vertex_weight[v]);
-    for (int64_t k = start[v]; k < start[v + 1]; ++k)
-      rows.add(v, row_entries[k].first, row_entries[k].second);
+    for (int64_t k = sorted.start[v]; k < sorted.start[v + 1]; ++k)
+      rows.add(v, sorted.entries[k].first, sorted.entries[k].second);
     rows.end_row(v);
   }
   return g;

@@ -39,11 +39,24 @@ struct WeightedPair {
   int64_t w;
 };
 
+// Both directions of every pair (i, j, w), i != j, by source vertex: row v is
+// entries[start[v] .. start[v + 1]) of (neighbour, max(1, w)), in ascending neighbour order
+// (duplicates kept), whatever the order of `pairs`. Ends must lie in [0, n).
+struct RowEntries {
+  std::vector<int64_t> start;
+  std::vector<std::pair<int64_t, int64_t>> entries;
+};
+RowEntries sorted_rows(int64_t n, const std::vector<WeightedPair>& pairs);
+
+// Neighbours in each row: in order of first appearance in the pairs, or ascending (the graph,
+// and a partition of it, then does not depend on the order of the pairs).
+enum class RowOrder { FirstSeen, Ascending };
+
 // Merges duplicate pairs (i,j)/(j,i) by summing weights, drops self loops, symmetrises; weights
 // are clamped to >= 1. Throws std::invalid_argument on out-of-range ids or a weight vector of the
 // wrong size.
 Graph build_graph(int64_t n, const std::vector<int64_t>& vertex_weight,
-                  const std::vector<WeightedPair>& pairs);
+                  const std::vector<WeightedPair>& pairs, RowOrder order = RowOrder::FirstSeen);
 
 // max/avg of per-part work; 1 when the total is zero. Throws std::invalid_argument on empty input.
 double imbalance(const std::vector<double>& work_per_part);

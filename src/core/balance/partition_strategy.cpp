@@ -16,13 +16,18 @@ namespace
 
 // The one table of partitioners, in the documentation's order.
 const PartitionerInfo kPartitioners[] = {
-    {"metis", Partitioner::Metis, false, false, false, "libmetis-dev"},
-    {"scotch", Partitioner::Scotch, false, true, false, "libscotch-dev"},
-    {"rcb", Partitioner::Rcb, true, false, false, ""},
-    {"layers", Partitioner::Layers, true, false, false, ""},
-    {"ptscotch", Partitioner::PtScotch, false, true, true, "libptscotch-dev"},
-    {"zoltan-phg", Partitioner::ZoltanPhg, false, true, true, "libtrilinos-zoltan-dev"},
-    {"zoltan-graph", Partitioner::ZoltanGraph, false, true, true, "libtrilinos-zoltan-dev"},
+    {"metis", Partitioner::Metis, false, false, false, "libmetis-dev", nullptr},
+    {"scotch", Partitioner::Scotch, false, true, false, "libscotch-dev", nullptr},
+    {"rcb", Partitioner::Rcb, true, false, false, "", nullptr},
+    {"layers", Partitioner::Layers, true, false, false, "", nullptr},
+    {"ptscotch", Partitioner::PtScotch, false, true, true, "libptscotch-dev", nullptr},
+    {"zoltan-phg", Partitioner::ZoltanPhg, false, true, true, "libtrilinos-zoltan-dev",
+     "HYPERGRAPH"},
+    {"zoltan-graph", Partitioner::ZoltanGraph, false, true, true, "libtrilinos-zoltan-dev",
+     "GRAPH"},
+    {"zoltan-rcb", Partitioner::ZoltanRcb, true, true, true, "libtrilinos-zoltan-dev", "RCB"},
+    {"zoltan-rib", Partitioner::ZoltanRib, true, true, true, "libtrilinos-zoltan-dev", "RIB"},
+    {"zoltan-hsfc", Partitioner::ZoltanHsfc, true, true, true, "libtrilinos-zoltan-dev", "HSFC"},
 };
 
 } // namespace
@@ -34,8 +39,7 @@ const PartitionerInfo& find_partitioner(const std::string& name)
     if (name == p.name) return p;
     names += std::string(names.empty() ? "" : " or ") + p.name; // each a choice of its own
   }
-  throw std::invalid_argument("keyword 'partitioner': expected " + names + ", got '" + name +
-                              "'");
+  throw std::invalid_argument("keyword 'partitioner': expected " + names + ", got '" + name + "'");
 }
 
 const PartitionerInfo& partitioner_info(Partitioner p)
@@ -78,8 +82,8 @@ PartitionResult PartitionStrategy::partition(const Graph& g, const std::vector<i
   } else if (strategy_ == Strategy::Refine ||
              (strategy_ == Strategy::Auto && current < kRefineBelow && !partitioner_.geometric)) {
     r.part = old_owner;
-    refined = refine_partition(g, r.part, nparts, kPartitionTolerance, kRefinePasses) <=
-              kRefinePasses;
+    refined =
+        refine_partition(g, r.part, nparts, kPartitionTolerance, kRefinePasses) <= kRefinePasses;
   }
   if (!refined && strategy_ != Strategy::Refine) {
     // From scratch, then relabelled so that most of the load stays where it is.

@@ -13,7 +13,18 @@
 namespace fracdem::balance
 {
 
-enum class Partitioner { Metis, Scotch, Rcb, Layers, PtScotch, ZoltanPhg, ZoltanGraph };
+enum class Partitioner {
+  Metis,
+  Scotch,
+  Rcb,
+  Layers,
+  PtScotch,
+  ZoltanPhg,
+  ZoltanGraph,
+  ZoltanRcb,
+  ZoltanRib,
+  ZoltanHsfc
+};
 // `repartition`: diffusion from the current owners, a partition from scratch, or by imbalance.
 enum class Strategy { Auto, Refine, Scratch };
 
@@ -21,8 +32,10 @@ enum class Strategy { Auto, Refine, Scratch };
 struct PartitionerInfo {
   const char* name;
   Partitioner id;
-  // Cuts the cell grid by coordinates: needs cells; `auto` cuts from scratch every time
-  // (diffusion from the current owners erodes the boxes) and diffusion is followed by a shape pass.
+  // Cuts by coordinates. Gathered (rcb, layers): cuts the cell grid, needs cells; `auto` cuts
+  // from scratch every time (diffusion from the current owners erodes the boxes) and diffusion
+  // is followed by a shape pass. Distributed (zoltan-rcb|rib|hsfc): cuts the particles'
+  // positions, weighted by their costs; the graph's edges only measure the cut.
   bool geometric;
   // One call trades edge cut against migration: `repartition` does not apply.
   bool repartitions;
@@ -30,11 +43,13 @@ struct PartitionerInfo {
   // gathers the graph or the partition. The Debian package that provides it.
   bool distributed;
   const char* package;
+  // Zoltan's LB_METHOD for the Zoltan partitioners (nullptr for the others).
+  const char* zoltan_method;
 };
 
 // The partitioner named `name`; else throws std::invalid_argument "keyword 'partitioner':
-// expected metis or scotch or rcb or layers or ptscotch or zoltan-phg or zoltan-graph, got
-// 'NAME'".
+// expected metis or scotch or rcb or layers or ptscotch or zoltan-phg or zoltan-graph or
+// zoltan-rcb or zoltan-rib or zoltan-hsfc, got 'NAME'".
 const PartitionerInfo& find_partitioner(const std::string& name);
 const PartitionerInfo& partitioner_info(Partitioner p);
 
