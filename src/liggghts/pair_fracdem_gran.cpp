@@ -69,7 +69,8 @@ void PairFracdemGran::answer_as_gran(bool on)
 double PairFracdemGran::smallest_radius()
 {
   double mine = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < atom->nlocal; ++i) mine = std::min(mine, atom->radius[i]);
+  for (int i = 0; i < atom->nlocal; ++i)
+    mine = std::min(mine, atom->radius[i]);
   for (int k = 0; k < modify->nfix; ++k)
     for (int t = 1; t <= atom->ntypes; ++t) {
       const double r = modify->fix[k]->min_rad(t);
@@ -153,15 +154,19 @@ void PairFracdemGran::settings(int narg, char** arg)
   if (bridge_.on) bridge_offset_ = add_history_value("fracdem_bridge", "0");
 }
 
+double PairFracdemGran::skin_to_write(double reach)
+{
+  const double unit = std::pow(10.0, std::floor(std::log10(reach)) - 2);
+  return std::ceil(reach / unit) * unit;
+}
+
 // The paper's rule for a medium-range interaction: the buffer zone must cover its reach, or a
 // list rebuild drops a bridged pair and its state.
 void PairFracdemGran::init_granular()
 {
   PairGranProxy::init_granular();
   if (!bridge_.on || neighbor->skin >= law_.rupture) return;
-  // Three significant digits rounded up, so that the value written passes this check.
-  const double unit = std::pow(10.0, std::floor(std::log10(law_.rupture)) - 2);
-  const double skin = std::ceil(law_.rupture / unit) * unit;
+  const double skin = skin_to_write(law_.rupture);
   char msg[400];
   std::snprintf(msg, sizeof msg,
                 "the bridge rupture distance (1 + theta/2) V^(1/3) = %.6g exceeds the neighbour "
@@ -262,15 +267,17 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   const double rate = (v[i][0] - v[j][0]) * en[0] + (v[i][1] - v[j][1]) * en[1] +
                       (v[i][2] - v[j][2]) * en[2]; // dS/dt
   const double rs = fracdem::derjaguin_radius(radius[i], radius[j]);
-  const double fn = fracdem::capillary_force(law_, rs, gap) +
-                    fracdem::viscous_force(law_, rs, gap, rate);
+  const double fn =
+      fracdem::capillary_force(law_, rs, gap) + fracdem::viscous_force(law_, rs, gap, rate);
   const double fi[3] = {-fn * en[0], -fn * en[1], -fn * en[2]};
   double** f = atom->f;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
-  for (int d = 0; d < 3; ++d) f[i][d] += fi[d];
+  for (int d = 0; d < 3; ++d)
+    f[i][d] += fi[d];
   if (newton_pair || j < nlocal)
-    for (int d = 0; d < 3; ++d) f[j][d] -= fi[d];
+    for (int d = 0; d < 3; ++d)
+      f[j][d] -= fi[d];
   if (evflag) {
     const double u = eflag_either ? fracdem::capillary_potential(law_, rs, gap) : 0.0;
     ev_tally_xyz(i, j, nlocal, newton_pair, u, 0.0, fi[0], fi[1], fi[2], del[0], del[1], del[2]);

@@ -28,6 +28,12 @@ public:
   void read_restart_settings(FILE* fp, const int major, const int minor) override;
   void compute_force(int eflag, int vflag, int addflag) override;
 
+  // The bridges' rupture distance S_c, the least skin that keeps them (0 without bridges).
+  double bridge_reach() const { return bridge_.on ? law_.rupture : 0.0; }
+  // The skin written in the refusal of a skin below bridge_reach(): S_c rounded up to three
+  // significant digits, so that the value written passes the check.
+  static double skin_to_write(double reach);
+
 private:
   void check_model_words(int narg, char** arg);
   void parse_bridge(int narg, char** arg);
@@ -38,11 +44,11 @@ private:
   double smallest_radius();
 
   fracdem::BridgeSettings bridge_;
-  char* own_name_ = nullptr; // force->pair_style while it answers to "gran"
-  fracdem::BridgeLaw law_; // bridge_.law prepared, with its rupture distance S_c
+  char* own_name_ = nullptr;  // force->pair_style while it answers to "gran"
+  fracdem::BridgeLaw law_;    // bridge_.law prepared, with its rupture distance S_c
   double history_factor_ = 1; // the host's contactDistanceFactor this run
-  int bridge_offset_ = -1; // index of the bridge state in a pair's contact history
-  bool wetted_ = false;    // wet yes bridges close pairs once, when particles first exist
+  int bridge_offset_ = -1;    // index of the bridge state in a pair's contact history
+  bool wetted_ = false;       // wet yes bridges close pairs once, when particles first exist
 };
 
 } // namespace LAMMPS_NS
