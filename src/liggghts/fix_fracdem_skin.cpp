@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <ctime>
 
 #include "atom.h"
 #include "comm.h"
@@ -39,7 +40,8 @@ struct NeighborCuts : Neighbor {
   static double Neighbor::*triggersq_of() { return &NeighborCuts::triggersq; }
 };
 
-constexpr const char* kSyntax = "expected 'fix ID all fracdem/skin N SKIN_MIN SKIN_MAX'";
+constexpr const char* kSyntax =
+    "expected 'fix ID all fracdem/skin N SKIN_MIN SKIN_MAX [clock cpu|wall]'";
 
 double number(const char* s, bool& ok)
 {
@@ -53,7 +55,14 @@ double number(const char* s, bool& ok)
 
 FixFracdemSkin::FixFracdemSkin(LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg)
 {
-  if (narg != 6) fail(kSyntax);
+  if (narg != 6 && narg != 8) fail(kSyntax);
+  if (narg == 8) {
+    if (std::strcmp(arg[6], "clock") != 0)
+      fail(std::string("unknown keyword '") + arg[6] + "'; " + kSyntax);
+    if (std::strcmp(arg[7], "cpu") != 0 && std::strcmp(arg[7], "wall") != 0)
+      fail(std::string("keyword 'clock': expected 'cpu' or 'wall', got '") + arg[7] + "'");
+    wall_clock_ = std::strcmp(arg[7], "wall") == 0;
+  }
   bool ok = false;
   const double every = number(arg[3], ok);
   if (!ok || every < 1 || every != std::floor(every) || every > 1e9)
@@ -157,13 +166,23 @@ void FixFracdemSkin::setup(int)
 {
   run_start_ = true;
   step_last_ = update->ntimestep;
+  if (!wall_clock_) seconds_last_ = measured_seconds();
 }
 
-// The three parts of a step that the skin changes, summed over the ranks' wall-clock timers.
+// clock wall: the three parts of a step that the skin changes (neighbour build, pair, comm), from
+// the host's wall-clock timers, which it zeroes after the run's set-up. clock cpu: this process's
+// CPU time, all of the step (on a shared machine wall time counts the neighbours' work too).
+// Averaged over the ranks.
 double FixFracdemSkin::measured_seconds() const
 {
-  const double mine =
-      timer->array[TIME_NEIGHBOR] + timer->array[TIME_PAIR] + timer->array[TIME_COMM];
+  double mine = 0;
+  if (wall_clock_) {
+    mine = timer->array[TIME_NEIGHBOR] + timer->array[TIME_PAIR] + timer->array[TIME_COMM];
+  } else {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    mine = ts.tv_sec + 1e-9 * ts.tv_nsec;
+  }
   double sum = 0;
   MPI_Allreduce(&mine, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
   return sum / comm->nprocs;
@@ -172,7 +191,7 @@ double FixFracdemSkin::measured_seconds() const
 void FixFracdemSkin::end_of_step()
 {
   const double now = measured_seconds();
-  if (run_start_) seconds_last_ = 0; // the timers were zeroed after this fix's set-up
+  if (run_start_ && wall_clock_) seconds_last_ = 0; // zeroed after this fix's set-up
   run_start_ = false;
   const bigint steps = update->ntimestep - step_last_;
   const double seconds = now - seconds_last_;
@@ -189,9 +208,10 @@ void FixFracdemSkin::end_of_step()
   char line[300];
   std::snprintf(line, sizeof line,
                 "fix fracdem/skin: step " BIGINT_FORMAT ": skin %.6g -> %.6g from the next "
-                "step (measured %.4g ms per step of neighbour + pair + comm over %d steps%s)\n",
-                update->ntimestep, old, next, 1e3 * last_cost_, static_cast<int>(steps),
-                search_->searching() ? ", searching" : ", held");
+                "step (measured %.4g ms per step of %s over %d steps%s)\n",
+                update->ntimestep, old, next, 1e3 * last_cost_,
+                wall_clock_ ? "neighbour + pair + comm wall time" : "CPU time",
+                static_cast<int>(steps), search_->searching() ? ", searching" : ", held");
   if (screen) fputs(line, screen);
   if (logfile) fputs(line, logfile);
 }

@@ -38,7 +38,8 @@ private:
   std::unique_ptr<fracdem::balance::SkinSearch> search_;
   double pending_ = -1;     // skin to take at the next list rebuild (< 0: none)
   double restored_ = -1;    // skin read from a restart file, taken at the first init
-  double seconds_last_ = 0; // neighbour + pair + comm seconds at the interval's start
+  bool wall_clock_ = false; // clock wall: the host's timers; clock cpu: the process's CPU time
+  double seconds_last_ = 0; // measured seconds at the interval's start
   bigint step_last_ = 0;    // its step
   bool run_start_ = false;  // the host zeroes its timers after set-up
   double last_cost_ = 0;    // the last interval's seconds per step

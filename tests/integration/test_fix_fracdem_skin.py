@@ -63,13 +63,13 @@ h.check(builds[SMIN] >= 10 and builds[SMIN] > builds[SMAX],
         f"list builds {builds}: the scene rebuilds often, less often with a larger skin")
 
 # ---- the fix, at np 1 and np 2 -----------------------------------------------------------------
-for np_ in (1, 2):
-    out, wd = run(np_=np_, tune=1)
+for np_, clock in ((1, "wall"), (2, "cpu")):
+    out, wd = run(np_=np_, tune=1, clock=clock)
     changes = [(int(s), float(a), float(b)) for s, a, b in CHANGE.findall(out)]
     ups = sum(b > a for _, a, b in changes)
     downs = sum(b < a for _, a, b in changes)
     h.check(ups >= 2 and downs >= 2,
-            f"np {np_}: the fix changed the skin {len(changes)} times ({ups} up, {downs} down)")
+            f"np {np_}, clock {clock}: the fix changed the skin {len(changes)} times ({ups} up, {downs} down)")
     h.check(all(SMIN <= b <= SMAX for _, _, b in changes), f"np {np_}: every skin within bounds")
     d = worst(ref, frames(wd))
     h.check(d <= TOL, f"np {np_}: trajectories with the fix equal to the fixed skin's within "
@@ -96,6 +96,7 @@ ERRORS = [
     (dict(smin=0), "SKIN_MIN must be a number > 0"),
     (dict(smin=0.002, smax=0.001), "SKIN_MAX must be a number > SKIN_MIN"),
     (dict(smax="big"), "SKIN_MAX 'big' is not a number"),
+    (dict(clock="sundial"), "keyword 'clock': expected 'cpu' or 'wall', got 'sundial'"),
     (dict(smin=0.0003), f"write SKIN_MIN {math.ceil(SC * 1e6) / 1e6:.3g} or more"),
 ]
 for variables, expected in ERRORS:
