@@ -97,6 +97,7 @@ ERRORS = [
     (dict(smin=0.002, smax=0.001), "SKIN_MAX must be a number > SKIN_MIN"),
     (dict(smax="big"), "SKIN_MAX 'big' is not a number"),
     (dict(clock="sundial"), "keyword 'clock': expected 'cpu' or 'wall', got 'sundial'"),
+    (dict(late_balance=1), "fix bal (balance/graph) must be defined before this fix"),
     (dict(smin=0.0003), f"write SKIN_MIN {math.ceil(SC * 1e6) / 1e6:.3g} or more"),
 ]
 for variables, expected in ERRORS:
