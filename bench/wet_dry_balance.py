@@ -9,7 +9,7 @@ The measure is the imbalance of measured particle work (max/avg over the ranks o
 neighbour build, pair and post-force work between checks: the 'measured_imbalance' column of the
 fix's report) after the first repartition, median over the checks and then over the
 repetitions; goal: below the fix's threshold (1.05) with the pair's counts, higher with the
-recount. Writes wet_dry_balance.csv (one row per check) and wet_dry_balance.md.
+recount. Writes wet_dry_balance_COST.csv (one row per check) and wet_dry_balance_COST.md.
 """
 import csv
 import os
@@ -59,7 +59,7 @@ def main():
             print(f"  {counts:8s} rep {rep}: measured imbalance after balancing "
                   f"{summary[counts][-1]:.3f} (median over {len(after)} checks), "
                   f"{int(sum(c['repartitioned']))} repartitions", flush=True)
-    with open(os.path.join(args.out, "wet_dry_balance.csv"), "w", newline="") as f:
+    with open(os.path.join(args.out, f"wet_dry_balance_{args.cost}.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
@@ -71,7 +71,7 @@ def main():
         lines.append(f"| {counts} | {', '.join(f'{v:.3f}' for v in vals)} | "
                      f"{statistics.median(vals):.3f} |")
     text = "\n".join(lines) + "\n"
-    with open(os.path.join(args.out, "wet_dry_balance.md"), "w") as f:
+    with open(os.path.join(args.out, f"wet_dry_balance_{args.cost}.md"), "w") as f:
         f.write(text)
     print(text)
 

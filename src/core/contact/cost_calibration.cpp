@@ -149,7 +149,7 @@ double bridge_seconds(Bench& b)
         const double rate =
             ((vi[0] - vj[0]) * d[0] + (vi[1] - vj[1]) * d[1] + (vi[2] - vj[2]) * d[2]) / r;
         const double rs = derjaguin_radius(s.r[i], s.r[j]);
-        const double gap = 1e-3 * std::fmod(r, 1.0);
+        const double gap = 1e-3 * r; // below the rupture distance for every pair of the scene
         acc += capillary_force(law, rs, gap) + viscous_force(law, rs, gap + 1e-6, rate);
       }
     }
