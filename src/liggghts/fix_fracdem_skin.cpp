@@ -200,7 +200,9 @@ void FixFracdemSkin::end_of_step()
   if (steps <= 0) return;
   last_cost_ = seconds / static_cast<double>(steps);
   const double old = neighbor->skin;
-  const double next = search_->record(last_cost_);
+  // Per particle: insertion and outflow change the time per step without changing which skin
+  // is best, and must not make a held skin look drifted.
+  const double next = search_->record(last_cost_ / std::max<double>(1.0, atom->natoms));
   if (next == old) return;
   pending_ = next;
   next_reneighbor = update->ntimestep + 1;
