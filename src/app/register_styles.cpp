@@ -14,6 +14,7 @@
 #include "fix_balance_graph.h"
 #include "fix_fem_body.h"
 #include "fix_fem_vtk.h"
+#include "fix_fracdem_skin.h"
 #include "pair_fracdem_gran.h"
 
 using namespace LAMMPS_NS;
@@ -66,6 +67,7 @@ void register_styles(LAMMPS* lmp)
     lmp->comm = new CommGraph(lmp);
   }
   fix_map["fem/vtk"] = &create_fix<FixFemVtk>;
+  fix_map["fracdem/skin"] = &create_fix<FixFracdemSkin>;
   // Force::pair_map is public in LIGGGHTS 3.8.
   (*lmp->force->pair_map)["fracdem/gran"] = &create_pair<PairFracdemGran>;
 }

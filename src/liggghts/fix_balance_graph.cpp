@@ -26,6 +26,7 @@
 #include "neigh_list.h"
 #include "output.h"
 #include "pair.h"
+#include "pair_fracdem_gran.h"
 #include "primitive_wall.h"
 #include "region.h"
 #include "update.h"
@@ -196,6 +197,8 @@ void FixBalanceGraph::pre_neighbor()
 
 void FixBalanceGraph::pre_force(int)
 {
+  // The pair counts the step before a check (the check runs at the next step's pre_exchange).
+  if (pair_counts_ && next_reneighbor == update->ntimestep + 1) pair_counts_->request_counts();
   if (!cpu_from_neighbor_) cpu_start_ = thread_cpu_seconds();
   cpu_from_neighbor_ = false;
 }
@@ -218,6 +221,7 @@ void FixBalanceGraph::init()
   if (!atom->radius_flag)
     error->all(FLERR, "fix balance/graph: needs per-atom radius (atom_style sphere or granular)");
   find_work_fixes();
+  pair_counts_ = spec_.pair_counts ? dynamic_cast<PairFracdemGran*>(force->pair) : nullptr;
 }
 
 // The fixes whose work the model counts (primitive walls, FE bodies), the refusal of mesh walls,
@@ -360,6 +364,7 @@ void FixBalanceGraph::count_pairs(Measured& m) const
   const fb::EdgeWeights weights = fb::edge_weights(spec_.graph_model, pricing_.costs());
   const bool by_cell = spec_.cell_factor > 0;
   const bool distributed = fb::partitioner_info(spec_.partitioner).distributed;
+  const bool recount = !take_pair_counts(m);
   for (int ii = 0; ii < list->inum; ++ii) {
     const int i = list->ilist[ii];
     if (i >= nlocal) continue;
@@ -374,7 +379,7 @@ void FixBalanceGraph::count_pairs(Measured& m) const
       // row the half list put it in: the costs do not depend on the order of the atoms.
       const int payer = j < nlocal && tag[j] < tag[i] ? j : i;
       m.counts.potential[payer] += 1;
-      m.counts.contacts[payer] += touching;
+      if (recount) m.counts.contacts[payer] += touching;
       if (!newton && j >= nlocal && tag[i] > tag[j]) continue;
       const std::int64_t a = by_cell ? m.cell[i] : tag[i];
       const std::int64_t b = by_cell ? grid_.cell_of(x[j]) : tag[j];
@@ -383,6 +388,20 @@ void FixBalanceGraph::count_pairs(Measured& m) const
       if (distributed) m.ends.insert(m.ends.end(), {i, j});
     }
   }
+}
+
+// Contacts and bridges of the last step as pair_style fracdem/gran counted them while computing
+// them; false where it has none of that step (another pair style, 'counts recount').
+bool FixBalanceGraph::take_pair_counts(Measured& m) const
+{
+  if (!pair_counts_) return false;
+  const PairFracdemGran::WorkCounts& c = pair_counts_->work_counts();
+  // Particles inserted since (earlier in this pre_exchange) have done nothing yet.
+  const int n = std::min<int>(atom->nlocal, static_cast<int>(c.contacts.size()));
+  if (c.step != update->ntimestep - 1 && c.step != update->ntimestep) return false;
+  std::copy(c.contacts.begin(), c.contacts.begin() + n, m.counts.contacts.begin());
+  std::copy(c.bridges.begin(), c.bridges.begin() + n, m.counts.bridges.begin());
+  return true;
 }
 
 // Primitive walls of fix wall/gran (their work runs outside Pair time): a gap test for every

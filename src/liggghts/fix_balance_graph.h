@@ -72,6 +72,8 @@ private:
   class CommGraph* comm_graph_ = nullptr;
   std::vector<class FixWallGran*> primitive_walls_;
   std::vector<class FixFemBody*> fem_bodies_;
+  // pair_style fracdem/gran with 'counts pair': contacts and bridges as the pair counted them.
+  class PairFracdemGran* pair_counts_ = nullptr;
   // Thread CPU time of this rank's particle work (neighbour build, pair, and the post-force fixes
   // defined before this one: walls, FE contact) since the last check; the measured work.
   double cpu_work_ = 0, cpu_start_ = 0;
@@ -103,6 +105,7 @@ private:
   Measured measure();
   void bin_cells(Measured& m);
   void count_pairs(Measured& m) const;
+  bool take_pair_counts(Measured& m) const;
   void count_walls_and_facets(Measured& m) const;
   void refit_costs(const Measured& m, double interval_steps);
   fracdem::balance::CheckRow check_row(const fracdem::balance::RankWork& work);

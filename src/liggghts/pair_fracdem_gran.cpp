@@ -27,6 +27,9 @@ using namespace LAMMPS_NS;
 namespace
 {
 
+// What bridge_pair did for a pair.
+constexpr int kTouching = 1, kBridged = 2;
+
 constexpr const char* kSyntax = "write 'pair_style fracdem/gran model hertz tangential history "
                                 "[bridge willett surface_tension G contact_angle THETA volume V "
                                 "[viscosity MU] [wet yes|no]]'";
@@ -69,7 +72,8 @@ void PairFracdemGran::answer_as_gran(bool on)
 double PairFracdemGran::smallest_radius()
 {
   double mine = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < atom->nlocal; ++i) mine = std::min(mine, atom->radius[i]);
+  for (int i = 0; i < atom->nlocal; ++i)
+    mine = std::min(mine, atom->radius[i]);
   for (int k = 0; k < modify->nfix; ++k)
     for (int t = 1; t <= atom->ntypes; ++t) {
       const double r = modify->fix[k]->min_rad(t);
@@ -153,15 +157,19 @@ void PairFracdemGran::settings(int narg, char** arg)
   if (bridge_.on) bridge_offset_ = add_history_value("fracdem_bridge", "0");
 }
 
+double PairFracdemGran::skin_to_write(double reach)
+{
+  const double unit = std::pow(10.0, std::floor(std::log10(reach)) - 2);
+  return std::ceil(reach / unit) * unit;
+}
+
 // The paper's rule for a medium-range interaction: the buffer zone must cover its reach, or a
 // list rebuild drops a bridged pair and its state.
 void PairFracdemGran::init_granular()
 {
   PairGranProxy::init_granular();
   if (!bridge_.on || neighbor->skin >= law_.rupture) return;
-  // Three significant digits rounded up, so that the value written passes this check.
-  const double unit = std::pow(10.0, std::floor(std::log10(law_.rupture)) - 2);
-  const double skin = std::ceil(law_.rupture / unit) * unit;
+  const double skin = skin_to_write(law_.rupture);
   char msg[400];
   std::snprintf(msg, sizeof msg,
                 "the bridge rupture distance (1 + theta/2) V^(1/3) = %.6g exceeds the neighbour "
@@ -203,10 +211,47 @@ void PairFracdemGran::compute_force(int eflag, int vflag, int addflag)
 {
   PairGranProxy::compute_force(eflag, vflag, addflag);
   // compute pair/gran/local recomputes with computeflag 0: forces and states stay as they are.
-  if (bridge_.on && computeflag()) bridge_pass();
+  if (!computeflag()) return;
+  const bool counting = count_next_ || update->setupflag;
+  if (counting) start_counts();
+  if (bridge_.on)
+    bridge_pass(counting);
+  else if (counting)
+    count_pass();
+  count_next_ = false;
 }
 
-void PairFracdemGran::bridge_pass()
+void PairFracdemGran::start_counts()
+{
+  const int n = atom->nlocal;
+  counts_.contacts.assign(n, 0);
+  counts_.bridges.assign(n, 0);
+  counts_.idle.assign(n, 0);
+  counts_.step = update->ntimestep;
+}
+
+// Without bridges: the host's contact test (centre distance below the radii's sum) per pair.
+void PairFracdemGran::count_pass()
+{
+  double** x = atom->x;
+  const double* radius = atom->radius;
+  const int nlocal = atom->nlocal;
+  for (int ii = 0; ii < list->inum; ++ii) {
+    const int i = list->ilist[ii];
+    if (i >= nlocal) continue;
+    const int* jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+      const double rs = radius[i] + radius[j];
+      const bool touching = dx * dx + dy * dy + dz * dz < rs * rs;
+      counts_.contacts[i] += touching;
+      counts_.idle[i] += !touching;
+    }
+  }
+}
+
+void PairFracdemGran::bridge_pass(bool counting)
 {
   const bool wet_now = bridge_.wet && !wetted_;
   if (wet_now) {
@@ -218,18 +263,25 @@ void PairFracdemGran::bridge_pass()
   int** first_flag = listgranhistory->firstneigh;
   double** first_hist = listgranhistory->firstdouble;
   const int nd = dnum();
+  const int nlocal = atom->nlocal;
   for (int ii = 0; ii < list->inum; ++ii) {
     const int i = list->ilist[ii];
     const int* jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; ++jj)
-      bridge_pair(i, jlist[jj] & NEIGHMASK, first_hist[i][nd * jj + bridge_offset_],
-                  &first_flag[i][jj], wet_now);
+    for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+      const int did = bridge_pair(i, jlist[jj] & NEIGHMASK, first_hist[i][nd * jj + bridge_offset_],
+                                  &first_flag[i][jj], wet_now);
+      if (!counting || i >= nlocal) continue;
+      counts_.contacts[i] += did & kTouching;
+      counts_.bridges[i] += (did & kBridged) != 0;
+      counts_.idle[i] += did == 0;
+    }
   }
 }
 
 // One pair: update its bridge state, then apply the bridge's normal force (attractive > 0) and
-// tally its potential and virial as the host tallies contact forces.
-void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag, bool wet_now)
+// tally its potential and virial as the host tallies contact forces. Returns what the pair did:
+// kTouching (the host's contact law ran) and kBridged bits.
+int PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag, bool wet_now)
 {
   using LIGGGHTS::ContactModels::CONTACT_COHESION_MODEL;
   double** x = atom->x;
@@ -241,8 +293,9 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   // Most listed pairs have never touched: no bridge, and no square root to learn it.
   if (state < 0.5 && !wet_now && rsq > radsum * radsum) {
     *contact_flag &= ~CONTACT_COHESION_MODEL;
-    return;
+    return 0;
   }
+  const int touching = rsq < radsum * radsum ? kTouching : 0;
   const double r = std::sqrt(rsq);
   const double gap = r - radsum;
   const bool was = state > 0.5 || (wet_now && gap < law_.rupture);
@@ -251,7 +304,7 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   // The flag keeps the pair's history through exchange and rebuilds while the bridge lasts.
   if (!now) {
     *contact_flag &= ~CONTACT_COHESION_MODEL;
-    return;
+    return touching;
   }
   *contact_flag |= CONTACT_COHESION_MODEL;
   if (radsum * (history_factor_ - 1.0) < law_.rupture)
@@ -262,17 +315,20 @@ void PairFracdemGran::bridge_pair(int i, int j, double& state, int* contact_flag
   const double rate = (v[i][0] - v[j][0]) * en[0] + (v[i][1] - v[j][1]) * en[1] +
                       (v[i][2] - v[j][2]) * en[2]; // dS/dt
   const double rs = fracdem::derjaguin_radius(radius[i], radius[j]);
-  const double fn = fracdem::capillary_force(law_, rs, gap) +
-                    fracdem::viscous_force(law_, rs, gap, rate);
+  const double fn =
+      fracdem::capillary_force(law_, rs, gap) + fracdem::viscous_force(law_, rs, gap, rate);
   const double fi[3] = {-fn * en[0], -fn * en[1], -fn * en[2]};
   double** f = atom->f;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
-  for (int d = 0; d < 3; ++d) f[i][d] += fi[d];
+  for (int d = 0; d < 3; ++d)
+    f[i][d] += fi[d];
   if (newton_pair || j < nlocal)
-    for (int d = 0; d < 3; ++d) f[j][d] -= fi[d];
+    for (int d = 0; d < 3; ++d)
+      f[j][d] -= fi[d];
   if (evflag) {
     const double u = eflag_either ? fracdem::capillary_potential(law_, rs, gap) : 0.0;
     ev_tally_xyz(i, j, nlocal, newton_pair, u, 0.0, fi[0], fi[1], fi[2], del[0], del[1], del[2]);
   }
+  return touching | kBridged;
 }

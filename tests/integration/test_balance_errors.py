@@ -39,7 +39,9 @@ cases = [
     ("fix bal all balance/graph 10 1.1 colour red", "unknown keyword 'colour'"),
     ("fix bal all balance/graph 10 1.1 partioner metis",
      "unknown keyword 'partioner' (expected model, cost, partitioner, repartition, cells, "
-     "insert_region or out); did you mean 'partitioner'?"),
+     "counts, insert_region or out); did you mean 'partitioner'?"),
+    ("fix bal all balance/graph 10 1.1 counts maybe",
+     "keyword 'counts': expected pair or recount, got 'maybe'"),
     ("fix bal all balance/graph 10 1.1 cells 0.5", "keyword 'cells'"),
     ("fix bal all balance/graph 10 1.1 model apriori model aposteriori", "keyword 'model' given twice"),
     ("fix bal all balance/graph 10 1.1 insert_region nosuch", "no region 'nosuch'"),

@@ -322,7 +322,7 @@ TEST(BalanceKernels, CalibratedCostsAreNormalisedPositiveAndFinite)
   const InteractionCosts c = fracdem::calibrate_costs(0.02);
   EXPECT_DOUBLE_EQ(c.pair_check, 1.0);
   for (double cost : {c.particle, c.sphere_contact, c.facet_check, c.facet_contact, c.wall_check,
-                      c.wall_contact}) {
+                      c.wall_contact, c.bridge}) {
     EXPECT_TRUE(std::isfinite(cost));
     EXPECT_GE(cost, 0.05);
   }

@@ -88,7 +88,9 @@ TEST(BalanceSpec, ErrorsNameTheKeywordAndWhatWasExpected)
             "keyword 'cost': expected counts, calibrated, timed or fitted, got 'guess'");
   EXPECT_EQ(spec_error({"10", "1.1", "colour", "red"}),
             "unknown keyword 'colour' (expected model, cost, partitioner, repartition, cells, "
-            "insert_region or out)");
+            "counts, insert_region or out)");
+  EXPECT_EQ(spec_error({"10", "1.1", "counts", "guess"}),
+            "keyword 'counts': expected pair or recount, got 'guess'");
   EXPECT_EQ(spec_error({"10", "1.1", "model", "apriori", "model", "aposteriori"}),
             "keyword 'model' given twice");
   EXPECT_EQ(spec_error({"10", "1.1", "model"}), "keyword 'model' needs a value");
@@ -249,8 +251,26 @@ TEST(CostModel, WeightsOfAHandBuiltGraph)
   EXPECT_DOUBLE_EQ(sums[kSphereContact], 2);
   EXPECT_DOUBLE_EQ(sums[kWallContact], 1);
   EXPECT_DOUBLE_EQ(sums[kGhost], 7);
+  EXPECT_DOUBLE_EQ(sums[kBridge], 0);
   // Halves of a pair's work add up to the pair's check and contact.
   EXPECT_DOUBLE_EQ(2 * half_pair_cost(c, true), c.pair_check + c.sphere_contact);
+}
+
+// A bridged particle pays its bridges on top of its checks and contacts; the bridge term sums.
+TEST(CostModel, BridgesAreATermOfTheirOwn)
+{
+  InteractionCosts c;
+  c.particle = 4, c.pair_check = 1, c.sphere_contact = 20, c.bridge = 6;
+  WorkCounts w;
+  w.reset(2, 0);
+  w.potential = {3, 3};
+  w.contacts = {1, 1};
+  w.bridges = {2, 0};
+  const RankWork work = price_counts(c, w);
+  EXPECT_DOUBLE_EQ(work.cost[0], 4 + 3 + 20 + 2 * 6);
+  EXPECT_DOUBLE_EQ(work.cost[1], 4 + 3 + 20);
+  EXPECT_DOUBLE_EQ(particle_cost(c, w.particle(0)), work.cost[0]);
+  EXPECT_DOUBLE_EQ(w.term_sums(0)[kBridge], 2);
 }
 
 TEST(CostModel, TimedSplitsTheMeasuredTimeAndStartCheckUsesTheModel)

@@ -12,7 +12,7 @@ using namespace fracdem::balance;
 namespace
 {
 
-const TermCounts kPrior = {1.0, 0.5, 1.0, 4.0, 3.0, 2.0, 6.0, 1.0};
+const TermCounts kPrior = {1.0, 0.5, 1.0, 4.0, 3.0, 2.0, 6.0, 5.0, 1.0};
 
 // Samples of ranks with independent random counts of every present term; seconds from `truth`
 // with relative noise `noise`.
@@ -122,7 +122,7 @@ TEST(CostFit, ArrayRoundTrip)
 {
   InteractionCosts c;
   c.particle = 2, c.wall_check = 3, c.pair_check = 5, c.sphere_contact = 7;
-  c.wall_contact = 11, c.facet_check = 13, c.facet_contact = 17;
+  c.wall_contact = 11, c.facet_check = 13, c.facet_contact = 17, c.bridge = 19;
   const TermCounts a = cost_array(c);
   EXPECT_EQ(a[kGhost], c.particle);
   const InteractionCosts back = interaction_costs(a);
@@ -133,4 +133,5 @@ TEST(CostFit, ArrayRoundTrip)
   EXPECT_EQ(back.wall_contact, 11);
   EXPECT_EQ(back.facet_check, 13);
   EXPECT_EQ(back.facet_contact, 17);
+  EXPECT_EQ(back.bridge, 19);
 }

@@ -82,9 +82,9 @@ std::string calibrated_costs_line(const InteractionCosts& c)
   snprintf(line, sizeof line,
            "fix balance/graph: calibrated costs relative to a pair check: particle %.2f, "
            "sphere contact %.2f, wall check %.2f, wall contact %.2f, facet check %.2f, "
-           "facet contact %.2f\n",
+           "facet contact %.2f, bridge %.2f\n",
            c.particle, c.sphere_contact, c.wall_check, c.wall_contact, c.facet_check,
-           c.facet_contact);
+           c.facet_contact, c.bridge);
   return line;
 }
 
@@ -95,9 +95,9 @@ std::string fitted_costs_line(const InteractionCosts& c)
   snprintf(line, sizeof line,
            "fix balance/graph: fitted costs relative to a pair check (%.3g ns per step): particle "
            "%.2f, sphere contact %.2f, wall check %.2f, wall contact %.2f, facet check %.2f, "
-           "facet contact %.2f\n",
+           "facet contact %.2f, bridge %.2f\n",
            1e9 * unit, c.particle / unit, c.sphere_contact / unit, c.wall_check / unit,
-           c.wall_contact / unit, c.facet_check / unit, c.facet_contact / unit);
+           c.wall_contact / unit, c.facet_check / unit, c.facet_contact / unit, c.bridge / unit);
   return line;
 }
 

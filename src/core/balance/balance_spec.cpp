@@ -85,6 +85,13 @@ void parse_cells(const std::string& v, BalanceSpec& s)
          v + "'");
 }
 
+void parse_counts(const std::string& v, BalanceSpec& s)
+{
+  if (v != "pair" && v != "recount")
+    fail("keyword 'counts': expected pair or recount, got '" + v + "'");
+  s.pair_counts = v == "pair";
+}
+
 void parse_insert_region(const std::string& v, BalanceSpec& s)
 {
   s.insert_regions.push_back(v);
@@ -108,6 +115,7 @@ const Keyword kKeywords[] = {
     {"partitioner", parse_partitioner, false},
     {"repartition", parse_repartition, false},
     {"cells", parse_cells, false},
+    {"counts", parse_counts, false},
     {"insert_region", parse_insert_region, true},
     {"out", parse_out, false},
 };
@@ -178,7 +186,8 @@ void check_combinations(BalanceSpec& s)
 
 BalanceSpec parse_balance_spec(const std::vector<std::string>& words)
 {
-  if (words.size() < 2) fail("expected 'fix ID all balance/graph Nevery thresh [keyword value ...]'");
+  if (words.size() < 2)
+    fail("expected 'fix ID all balance/graph Nevery thresh [keyword value ...]'");
   BalanceSpec s;
   s.every = parse_every(words[0]);
   s.threshold = parse_threshold(words[1]);

@@ -32,6 +32,10 @@ struct BalanceSpec {
   bool have_strategy = false;                       // repartition given
   double cell_factor = 2.0; // cells: cell edge in ghost cutoffs; 0 = one vertex per particle
   bool have_cells = false;  // cells given (a distributed partitioner defaults to 0)
+  // counts: take contacts and bridges from pair_style fracdem/gran, which counts them where it
+  // computes them (pair, the default), or recount contacts over the neighbour list (recount, as
+  // for other pair styles, which gives no bridges)
+  bool pair_counts = true;
   std::vector<std::string> insert_regions; // insert_region (repeatable)
   std::string out_file;                    // out; empty: no report
 };

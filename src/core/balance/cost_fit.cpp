@@ -14,7 +14,8 @@ TermCounts cost_array(const InteractionCosts& c)
   TermCounts a{};
   a[kParticle] = c.particle, a[kWallCheck] = c.wall_check, a[kPairCheck] = c.pair_check;
   a[kSphereContact] = c.sphere_contact, a[kWallContact] = c.wall_contact;
-  a[kFacetCheck] = c.facet_check, a[kFacetContact] = c.facet_contact, a[kGhost] = c.particle;
+  a[kFacetCheck] = c.facet_check, a[kFacetContact] = c.facet_contact, a[kBridge] = c.bridge;
+  a[kGhost] = c.particle;
   return a;
 }
 
@@ -23,7 +24,7 @@ InteractionCosts interaction_costs(const TermCounts& a)
   InteractionCosts c;
   c.particle = a[kParticle], c.wall_check = a[kWallCheck], c.pair_check = a[kPairCheck];
   c.sphere_contact = a[kSphereContact], c.wall_contact = a[kWallContact];
-  c.facet_check = a[kFacetCheck], c.facet_contact = a[kFacetContact];
+  c.facet_check = a[kFacetCheck], c.facet_contact = a[kFacetContact], c.bridge = a[kBridge];
   return c;
 }
 

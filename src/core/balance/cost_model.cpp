@@ -17,7 +17,7 @@ double particle_cost(const InteractionCosts& c, const ParticleCounts& k)
 {
   return c.particle + k.walls * c.wall_check + static_cast<double>(k.pair_checks) * c.pair_check +
          k.sphere_contacts * c.sphere_contact + k.wall_contacts * c.wall_contact +
-         k.facet_checks * c.facet_check + k.facet_contacts * c.facet_contact;
+         k.facet_checks * c.facet_check + k.facet_contacts * c.facet_contact + k.bridges * c.bridge;
 }
 
 double half_pair_cost(const InteractionCosts& c, bool touching)
@@ -33,6 +33,7 @@ void WorkCounts::reset(int nlocal, int nwalls)
   wall_contacts.assign(nlocal, 0);
   facet_checks.assign(nlocal, 0);
   facet_contacts.assign(nlocal, 0);
+  bridges.assign(nlocal, 0);
 }
 
 ParticleCounts WorkCounts::particle(int i) const
@@ -42,6 +43,7 @@ ParticleCounts WorkCounts::particle(int i) const
   k.pair_checks = static_cast<long>(potential[i]);
   k.sphere_contacts = contacts[i], k.wall_contacts = wall_contacts[i];
   k.facet_checks = facet_checks[i], k.facet_contacts = facet_contacts[i];
+  k.bridges = bridges[i];
   return k;
 }
 
@@ -55,6 +57,7 @@ TermCounts WorkCounts::term_sums(double ghosts) const
     sums[kWallContact] += wall_contacts[i];
     sums[kFacetCheck] += facet_checks[i];
     sums[kFacetContact] += facet_contacts[i];
+    sums[kBridge] += bridges[i];
   }
   sums[kParticle] = n;
   sums[kWallCheck] = static_cast<double>(walls) * n;

@@ -12,8 +12,8 @@ namespace fracdem::balance
 
 // Work per particle is modelled as a sum over what the step did for it: a fixed per-particle
 // part, a gap test per primitive wall, potential pairs checked, sphere-sphere contacts resolved,
-// primitive-wall contacts, facet checks and facet contacts of deformable bodies. Costs are
-// relative to one pair check.
+// liquid bridges (pair_style fracdem/gran), primitive-wall contacts, facet checks and facet
+// contacts of deformable bodies. Costs are relative to one pair check.
 struct InteractionCosts {
   // per particle and step, with or without neighbours: integration, force clearing, gravity,
   // binning and the stencil walk of reneighbouring (a free-flying particle costs this much)
@@ -24,6 +24,7 @@ struct InteractionCosts {
   double wall_contact = 1.0;
   double facet_check = 1.0;
   double facet_contact = 1.0;
+  double bridge = 1.0; // per liquid bridge: its capillary and viscous force, beyond the check
 };
 
 // What the last step did for one particle: the terms of the work model.
@@ -32,6 +33,7 @@ struct ParticleCounts {
   long pair_checks = 0;    // potential pairs in its neighbour list
   int sphere_contacts = 0; // pairs in contact
   int wall_contacts = 0, facet_checks = 0, facet_contacts = 0;
+  int bridges = 0; // liquid bridges (a bridged pair in contact is a contact and a bridge)
 };
 
 // Plain counts: every item costs 1.
@@ -57,6 +59,7 @@ enum CostTerm {
   kWallContact,
   kFacetCheck,
   kFacetContact,
+  kBridge,
   kGhost,
   kCostTerms
 };
@@ -66,7 +69,7 @@ using TermCounts = std::array<double, kCostTerms>;
 struct WorkCounts {
   int walls = 0;                       // primitive walls: a gap test per particle each
   std::vector<std::int64_t> potential; // potential targets in the neighbour list
-  std::vector<int> contacts, wall_contacts, facet_checks, facet_contacts;
+  std::vector<int> contacts, wall_contacts, facet_checks, facet_contacts, bridges;
 
   void reset(int nlocal, int nwalls); // nlocal particles with nothing counted
   int size() const { return static_cast<int>(potential.size()); }

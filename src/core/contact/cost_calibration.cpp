@@ -9,6 +9,7 @@
 
 #include "contact/geometry.h"
 #include "contact/granular_law.h"
+#include "contact/liquid_bridge.h"
 
 namespace fracdem
 {
@@ -127,6 +128,36 @@ double pair_seconds(Bench& b, double radsum)
   return seconds_per_item(sweep, pairs, b.budget);
 }
 
+// Seconds per neighbour pair of the pair check plus a water bridge's capillary and viscous force
+// (its gap, Derjaguin radius and rate), every pair bridged.
+double bridge_seconds(Bench& b)
+{
+  Scene& s = b.s;
+  const BridgeLaw law = prepare_bridge(LiquidBridge{0.072, 0.35, 1e-3, 1e-3});
+  const long pairs = static_cast<long>(s.n) * s.per;
+  const auto sweep = [&] {
+    double acc = 0;
+    for (int i = 0; i < s.n; ++i) {
+      const double* xi = &s.x[3 * i];
+      for (int k = 0; k < s.per; ++k) {
+        const int j = s.nbr[static_cast<size_t>(i) * s.per + k];
+        const double* xj = &s.x[3 * j];
+        const double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
+        const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-12;
+        const double* vi = &s.v[3 * i];
+        const double* vj = &s.v[3 * j];
+        const double rate =
+            ((vi[0] - vj[0]) * d[0] + (vi[1] - vj[1]) * d[1] + (vi[2] - vj[2]) * d[2]) / r;
+        const double rs = derjaguin_radius(s.r[i], s.r[j]);
+        const double gap = 1e-3 * r; // below the rupture distance for every pair of the scene
+        acc += capillary_force(law, rs, gap) + viscous_force(law, rs, gap + 1e-6, rate);
+      }
+    }
+    b.sink = b.sink + acc;
+  };
+  return seconds_per_item(sweep, pairs, b.budget);
+}
+
 // Binning and stencil walk of one reneighbouring, spread over kStepsPerReneighbour steps.
 void amortised_binning(Scene& s)
 {
@@ -218,7 +249,7 @@ double facet_seconds(Bench& b, bool with_law)
 balance::InteractionCosts calibrate_costs(double seconds_budget)
 {
   Bench b;
-  b.budget = seconds_budget / 7.0;
+  b.budget = seconds_budget / 8.0;
   const double t_check = pair_seconds(b, 1e-9);
   const double t_contact_all = pair_seconds(b, 1e9);
   const double t_particle = free_particle_seconds(b);
@@ -226,6 +257,7 @@ balance::InteractionCosts calibrate_costs(double seconds_budget)
   const double t_wall_all = wall_seconds(b, 1e9);
   const double t_facet_check = facet_seconds(b, false);
   const double t_facet_all = facet_seconds(b, true);
+  const double t_bridge_all = bridge_seconds(b);
 
   balance::InteractionCosts costs;
   const double base = t_check > 1e-12 ? t_check : 1e-12;
@@ -237,6 +269,7 @@ balance::InteractionCosts calibrate_costs(double seconds_budget)
   costs.wall_contact = rel(t_wall_all - t_wall_check);
   costs.facet_check = rel(t_facet_check);
   costs.facet_contact = rel(t_facet_all - t_facet_check);
+  costs.bridge = rel(t_bridge_all - t_check);
   return costs;
 }
 
