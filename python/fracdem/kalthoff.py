@@ -111,19 +111,11 @@ def input_text(mesh_path, dt, end_time=80e-6, frames=16, fracture="", softening=
 
 
 def failed_centres(vtu, threshold=0.99):
-    """Centroids (deformed) of the active elements of a fem/vtk frame at damage >= threshold."""
-    import vtk
-    from vtk.util.numpy_support import vtk_to_numpy
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(vtu)
-    reader.Update()
-    grid = reader.GetOutput()
-    damage = vtk_to_numpy(grid.GetCellData().GetArray("damage"))
-    cc = vtk.vtkCellCenters()
-    cc.SetInputData(grid)
-    cc.Update()
-    centres = vtk_to_numpy(cc.GetOutput().GetPoints().GetData())[:, :2]
-    return centres[damage >= threshold]
+    """Centroids (deformed, in-plane) of the active elements of a fem/vtk frame at damage >=
+    threshold."""
+    from fracdem import stress
+    _, centres, damage = stress.damage_fraction(vtu)
+    return centres[damage >= threshold][:, :2]
 
 
 def arcs(points, radius, width):

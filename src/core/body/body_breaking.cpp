@@ -167,13 +167,9 @@ void BodyDriver::distributed_fracture(std::int64_t step, double dt)
 bool BodyDriver::fracture_may_change(double dt)
 {
   if (!body_.failed_elements()) return true; // the last evaluation saw part of the elements
-  FailureMap map;
-  build_failure_map(body_, map);
+  build_failure_map(body_, failure_map_);
   const CrackNodes nodes = part_crack_nodes(part_, topo_, spec_->min_size);
-  FracturePlanInput in;
-  in.points = crack_points(body_.mesh(), map);
-  in.failed = map.failed;
-  in.rule = fracture_rule(dt);
+  FracturePlanInput in = fracture_input(failure_map_, dt);
   in.part = &nodes;
   in.fraction = [](int) { return 1.0; };
   return !plan_fracture(body_, in).empty();

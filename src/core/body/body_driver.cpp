@@ -1168,14 +1168,17 @@ void BodyDriver::fracture(std::int64_t step, double dt)
   check_step_after_cracks(step, dt, !out.cuts.empty());
 }
 
-FractureCheckRule BodyDriver::fracture_rule(double dt) const
+// The plan's input from a failure map: its crack points and failed elements, the check's rule.
+FracturePlanInput BodyDriver::fracture_input(const FailureMap& map, double dt) const
 {
-  FractureCheckRule rule;
-  rule.min_size = spec_->min_size;
-  rule.erode_cracked = spec_->erode_cracked;
-  rule.remove_mass = spec_->erosion.remove_mass;
-  rule.dt = dt;
-  return rule;
+  FracturePlanInput in;
+  in.points = crack_points(body_.mesh(), map);
+  in.failed = map.failed;
+  in.rule.min_size = spec_->min_size;
+  in.rule.erode_cracked = spec_->erode_cracked;
+  in.rule.remove_mass = spec_->erosion.remove_mass;
+  in.rule.dt = dt;
+  return in;
 }
 
 // One fracture check on body_: its plan (failure map, crack points, cuts and splits, partings,
@@ -1188,10 +1191,7 @@ bool BodyDriver::crack_body(std::int64_t step, double dt, FractureOutcome& out,
   // breaking body is done on every rank, so all see the same count) has nothing to check.
   if (body_.damaged_points() == 0) return false;
   if (build_failure_map(body_, failure_map_) == 0) return false;
-  FracturePlanInput in;
-  in.points = crack_points(body_.mesh(), failure_map_);
-  in.failed = failure_map_.failed;
-  in.rule = fracture_rule(dt);
+  FracturePlanInput in = fracture_input(failure_map_, dt);
   in.pieces = distributed_ ? nullptr : &face_pieces_;
   in.outlook = outlook != nullptr;
   const FracturePlan plan = plan_fracture(body_, in);

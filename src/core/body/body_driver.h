@@ -219,7 +219,7 @@ private:
   void follow_step_after_erosion(std::int64_t step, double dt);
   void erode_inverted(std::int64_t step, int e);
   std::string inverted_line(std::int64_t step, int e) const;
-  FractureCheckRule fracture_rule(double dt) const;
+  FracturePlanInput fracture_input(const FailureMap& map, double dt) const;
   bool crack_body(std::int64_t step, double dt, FractureOutcome& out,
                   SeparationOutlook* outlook = nullptr);
   void log_cracks(std::int64_t step, const FractureOutcome& out);
